@@ -1,0 +1,71 @@
+/* edits.h: the edits stream (man5 keratome-edits): progressive node duplications, Dirichlet
+ * constraints and nodal forces, grouped by step. Line-oriented text, streamable:
+ *
+ *   keratome-edits 1
+ *   scene plans/eye.yaml
+ *   mesh eye.msh 20411 98231          (file, node count, tet count the edits apply to)
+ *   step 1 arc 0-5 deg
+ *   dup 1204 20412 3 88 91 1502       (node, new node, count, the tets that move to it)
+ *   fix 17 xyz 0 0 0.1                (node, components, values in mm)
+ *   force 17 0 0 -0.01                (node, nodal force in N, replacing any earlier one)
+ *   end
+ *
+ * Node and tet numbers are 1-based, as in the MSH file; a new node takes the next free number.
+ * '#' starts a comment. A stream that ends inside a step is an error. */
+#ifndef KT_EDITS_H
+#define KT_EDITS_H
+
+#include <stdio.h>
+
+#include "util.h"
+
+enum { KT_EDIT_DUP = 1, KT_EDIT_FIX, KT_EDIT_FORCE };
+
+/* One edit; numbers here are 0-based. */
+typedef struct kt_edit {
+    int kind;
+    int node;        /* the node edited */
+    int new_node;    /* DUP: the new node's number */
+    int nel;         /* DUP: how many tets move to the new node */
+    int *el;         /* DUP: those tets (owned) */
+    unsigned mask;   /* FIX: components fixed (bit c) */
+    double v[3];     /* FIX: displacement, mm; FORCE: force, N */
+} kt_edit;
+
+typedef struct kt_step {
+    int index;       /* 1, 2, ... */
+    char label[128];
+    int n, cap;
+    kt_edit *edit;   /* owned */
+} kt_step;
+
+typedef struct kt_edits_header {
+    char scene[1024];
+    char mesh[1024];
+    int nn, ne;      /* counts of the mesh the edits apply to */
+} kt_edits_header;
+
+typedef struct kt_edits_reader {
+    FILE *f;
+    const char *name; /* for messages */
+    long line;
+    int last_step;
+    kt_edits_header h;
+} kt_edits_reader;
+
+/* Read the header. */
+int kt_edits_open(kt_edits_reader *r, FILE *f, const char *name, kt_err *e);
+/* Read the next step into s (cleared first); returns 1 for a step, 0 at the end of the stream,
+ * or -1 with e set. */
+int kt_edits_next(kt_edits_reader *r, kt_step *s, kt_err *e);
+
+void kt_step_clear(kt_step *s);  /* keep the allocation, drop the edits */
+void kt_step_free(kt_step *s);
+/* Append an edit (copies el). */
+int kt_step_add(kt_step *s, const kt_edit *ed, kt_err *e);
+
+int kt_edits_write_header(FILE *f, const kt_edits_header *h, kt_err *e);
+/* Write one step and flush, so a reader downstream can start. */
+int kt_edits_write_step(FILE *f, const kt_step *s, kt_err *e);
+
+#endif

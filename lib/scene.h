@@ -1,0 +1,95 @@
+/* scene.h: the scene YAML (geometry, regions, materials, loads, fixation, meshing, ordering). */
+#ifndef KT_SCENE_H
+#define KT_SCENE_H
+
+#include "mesh.h"
+
+/* Internal units: mm, MPa, N, degrees. The YAML gives quantities as "7.8 mm", "540 um",
+ * "15 mmHg", "0.3 MPa", "90 deg"; every default is documented in man/man5/keratome-scene.5
+ * with its literature source. */
+
+enum { KT_MODEL_EYE = 1, KT_MODEL_BOX, KT_MODEL_SURFACE, KT_MODEL_IMAGE };
+enum { KT_ORDERING_AMD = 1, KT_ORDERING_METIS, KT_ORDERING_CONSTRAINED, KT_ORDERING_NATURAL };
+
+#define KT_SCENE_MAX 16
+
+/* An incision-ready surface of the eye: a ring cut into the cornea from the anterior surface. */
+typedef struct kt_ring {
+    char name[KT_NAME_MAX];     /* mesh surface group name, e.g. "incision-ring-1" */
+    double diameter;            /* optical-zone diameter of the ring, mm */
+    double depth;               /* depth below the anterior surface, mm (if depth_fraction 0) */
+    double depth_fraction;      /* or a fraction of the local corneal thickness */
+} kt_ring;
+
+typedef struct kt_eye {
+    double r_ant_steep, r_ant_flat; /* anterior corneal radii in the steep/flat meridians, mm */
+    double steep_axis;              /* steep meridian, deg (ophthalmic convention, 0..180) */
+    double r_post;                  /* posterior corneal radius, mm */
+    double t_central, t_peripheral; /* corneal thickness at the apex and at the limbus, mm */
+    double wtw;                     /* white-to-white (corneal) diameter, mm */
+    double limbus_width;            /* width of the limbal zone, mm */
+    double sclera_thickness;        /* scleral thickness at the limbus, mm */
+    double globe_radius;            /* outer scleral radius, mm */
+    double extent;                  /* polar angle where the model is cut off, deg (180: whole globe) */
+    double optical_zone;            /* diameter of the refined central zone, mm */
+    double h_optical, h_incision, h_cornea, h_sclera; /* element sizes, mm */
+    int nring;
+    kt_ring ring[KT_SCENE_MAX];
+} kt_eye;
+
+/* Box (the paper's beams and brick): nodes n[3] over lengths len[3], mm. */
+typedef struct kt_box {
+    int n[3];
+    double len[3];
+} kt_box;
+
+/* Surface mesh (OFF/STL) or labelled image (INR) meshed with CGAL. */
+typedef struct kt_cgal {
+    char path[1024];            /* resolved relative to the scene file */
+    double facet_size, cell_size, facet_distance; /* mm */
+    int target_nodes;           /* if > 0, sizes are scaled to reach about this many nodes */
+} kt_cgal;
+
+typedef struct kt_region_mat {
+    char region[KT_NAME_MAX];
+    double E, nu;               /* MPa, - */
+} kt_region_mat;
+
+typedef struct kt_pressure {
+    char surface[KT_NAME_MAX];
+    double p;                   /* MPa (YAML may say mmHg or kPa) */
+} kt_pressure;
+
+typedef struct kt_fixation {
+    char surface[KT_NAME_MAX];
+    unsigned mask;              /* bit c set: component c fixed */
+    double value[3];            /* prescribed displacement, mm */
+} kt_fixation;
+
+typedef struct kt_scene {
+    char path[1024], dir[1024]; /* the file and its folder */
+    char name[KT_NAME_MAX];
+    int model;                  /* KT_MODEL_* */
+    int order;                  /* element order, 1 or 2 */
+    int ordering;               /* KT_ORDERING_* */
+    char ordering_set[KT_NAME_MAX]; /* surface group put last by the constrained ordering */
+    kt_eye eye;
+    kt_box box;
+    kt_cgal cgal;
+    int nmat;
+    kt_region_mat mat[KT_SCENE_MAX];
+    int npressure;
+    kt_pressure pressure[KT_SCENE_MAX];
+    int nfix;
+    kt_fixation fix[KT_SCENE_MAX];
+} kt_scene;
+
+/* Load and validate a scene file. Unknown keys, duplicate keys, wrong types, missing or
+ * unknown units and out-of-range values are KT_EINPUT with "file:line:col: expected ...". */
+int kt_scene_load(const char *path, kt_scene *s, kt_err *e);
+
+/* Materials by region tag for a mesh built from this scene (regions matched by name). */
+struct kt_materials;
+int kt_scene_materials(const kt_scene *s, const kt_mesh *m, struct kt_materials *mats, kt_err *e);
+
+#endif

@@ -1,0 +1,212 @@
+/* util.c: errors, allocation, timers, progress and atomic output. */
+#define _POSIX_C_SOURCE 200809L
+#include "util.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+int kt_fail(kt_err *e, int code, const char *fmt, ...)
+{
+    if (!e || e->code != KT_OK) return e ? e->code : code;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(e->msg, sizeof e->msg, fmt, ap);
+    va_end(ap);
+    e->code = code;
+    return code;
+}
+
+void *kt_calloc(size_t n, size_t size, kt_err *e)
+{
+    if (n == 0) n = 1;
+    if (size && n > SIZE_MAX / size) {
+        kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", n, size);
+        return NULL;
+    }
+    void *p = calloc(n, size);
+    if (!p) kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", n, size);
+    return p;
+}
+
+void *kt_realloc(void *p, size_t n, size_t size, kt_err *e)
+{
+    if (n == 0) n = 1;
+    if (size && n > SIZE_MAX / size) {
+        kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", n, size);
+        return NULL;
+    }
+    void *q = realloc(p, n * size);
+    if (!q) kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", n, size);
+    return q;
+}
+
+char *kt_strdup(const char *s, kt_err *e)
+{
+    size_t n = strlen(s) + 1;
+    char *d = kt_calloc(n, 1, e);
+    if (d) memcpy(d, s, n);
+    return d;
+}
+
+double kt_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void kt_progress_start(kt_progress *p, const char *what, long total, int quiet)
+{
+    p->what = what;
+    p->total = total > 0 ? total : 1;
+    p->quiet = quiet;
+    p->tty = isatty(STDERR_FILENO);
+    p->last = -1;
+    p->t0 = kt_now();
+    kt_progress_update(p, 0);
+}
+
+void kt_progress_update(kt_progress *p, long done)
+{
+    if (p->quiet) return;
+    int pct = (int)(100.0 * (double)done / (double)p->total);
+    if (pct > 100) pct = 100;
+    if (p->tty) {
+        if (pct == p->last) return;
+        int w = pct / 4;
+        fprintf(stderr, "\r%-24s [%-25.*s] %3d%%", p->what, w, "#########################", pct);
+    } else {
+        if (p->last >= 0 && pct / 10 == p->last / 10) return;
+        fprintf(stderr, "%s: %d%% (%ld/%ld, %.1f s)\n", p->what, pct, done, p->total,
+                kt_now() - p->t0);
+    }
+    p->last = pct;
+}
+
+void kt_progress_end(kt_progress *p)
+{
+    if (p->quiet) return;
+    if (p->tty)
+        fprintf(stderr, "\r%-24s done in %.2f s%24s\n", p->what, kt_now() - p->t0, "");
+    else
+        fprintf(stderr, "%s: done in %.2f s\n", p->what, kt_now() - p->t0);
+}
+
+void kt_log(int quiet, const char *fmt, ...)
+{
+    if (quiet) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+}
+
+int kt_out_open(kt_out *o, const char *path, kt_err *e)
+{
+    memset(o, 0, sizeof *o);
+    if (strcmp(path, "-") == 0) {
+        o->f = stdout;
+        o->is_stdout = 1;
+        return KT_OK;
+    }
+    o->path = kt_strdup(path, e);
+    o->tmp = kt_calloc(strlen(path) + 16, 1, e);
+    if (!o->path || !o->tmp) {
+        kt_out_abort(o);
+        return e->code;
+    }
+    sprintf(o->tmp, "%s.tmp.XXXXXX", path);
+    int fd = mkstemp(o->tmp);
+    if (fd < 0) {
+        int err = errno;
+        free(o->tmp);
+        o->tmp = NULL;
+        kt_out_abort(o);
+        return kt_fail(e, KT_EINPUT, "%s: cannot create output file: %s", path, strerror(err));
+    }
+    fchmod(fd, 0644);
+    o->f = fdopen(fd, "wb");
+    if (!o->f) {
+        close(fd);
+        kt_out_abort(o);
+        return kt_fail(e, KT_ERUN, "%s: fdopen failed", path);
+    }
+    return KT_OK;
+}
+
+int kt_out_commit(kt_out *o, kt_err *e)
+{
+    if (o->is_stdout) {
+        if (fflush(stdout) != 0 || ferror(stdout))
+            return kt_fail(e, KT_ERUN, "<stdout>: write failed");
+        o->f = NULL;
+        return KT_OK;
+    }
+    int bad = ferror(o->f) != 0;
+    if (fclose(o->f) != 0) bad = 1;
+    o->f = NULL;
+    if (bad) {
+        kt_out_abort(o);
+        return kt_fail(e, KT_ERUN, "write failed (disk full?)");
+    }
+    if (rename(o->tmp, o->path) != 0) {
+        int err = errno;
+        kt_out_abort(o);
+        return kt_fail(e, KT_ERUN, "cannot rename output into place: %s", strerror(err));
+    }
+    free(o->tmp);
+    free(o->path);
+    o->tmp = o->path = NULL;
+    return KT_OK;
+}
+
+void kt_out_abort(kt_out *o)
+{
+    if (o->f && !o->is_stdout) fclose(o->f);
+    if (o->tmp) unlink(o->tmp);
+    free(o->tmp);
+    free(o->path);
+    memset(o, 0, sizeof *o);
+}
+
+int kt_mkdir_p(const char *path, kt_err *e)
+{
+    char buf[4096];
+    size_t n = strlen(path);
+    if (n == 0 || n >= sizeof buf) return kt_fail(e, KT_EINPUT, "%s: bad directory name", path);
+    memcpy(buf, path, n + 1);
+    for (size_t i = 1; i <= n; i++) {
+        if (buf[i] != '/' && buf[i] != '\0') continue;
+        char c = buf[i];
+        buf[i] = '\0';
+        if (mkdir(buf, 0755) != 0 && errno != EEXIST)
+            return kt_fail(e, KT_EINPUT, "%s: cannot create directory: %s", buf, strerror(errno));
+        buf[i] = c;
+    }
+    return KT_OK;
+}
+
+int kt_parse_double(const char *s, double *v)
+{
+    char *end;
+    errno = 0;
+    *v = strtod(s, &end);
+    return (end == s || *end != '\0' || errno == ERANGE) ? -1 : 0;
+}
+
+int kt_parse_int(const char *s, int *v)
+{
+    char *end;
+    errno = 0;
+    long l = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || errno == ERANGE || l < INT_MIN || l > INT_MAX) return -1;
+    *v = (int)l;
+    return 0;
+}

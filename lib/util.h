@@ -1,0 +1,62 @@
+/* util.h: errors, allocation, timers, progress and atomic output for every keratome module. */
+#ifndef KT_UTIL_H
+#define KT_UTIL_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+/* Exit codes, shared by every tool: run-time/numerical failure 1, bad usage or input 2. */
+enum { KT_OK = 0, KT_ERUN = 1, KT_EINPUT = 2 };
+
+/* An error: its code and one line, "file:line:col: what was expected" for bad input. */
+typedef struct kt_err {
+    int code;
+    char msg[1024];
+} kt_err;
+
+/* Record an error (the first one wins) and return its code. */
+int kt_fail(kt_err *e, int code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+/* calloc/realloc of n items with overflow check; failure is recorded as KT_ERUN. */
+void *kt_calloc(size_t n, size_t size, kt_err *e);
+void *kt_realloc(void *p, size_t n, size_t size, kt_err *e);
+char *kt_strdup(const char *s, kt_err *e);
+
+/* Monotonic wall-clock seconds. */
+double kt_now(void);
+
+/* Progress on stderr: a bar on a TTY, a plain line every 10% otherwise, nothing when quiet. */
+typedef struct kt_progress {
+    const char *what;
+    long total;
+    int quiet, tty, last;
+    double t0;
+} kt_progress;
+
+void kt_progress_start(kt_progress *p, const char *what, long total, int quiet);
+void kt_progress_update(kt_progress *p, long done);
+void kt_progress_end(kt_progress *p);
+
+/* A message on stderr unless quiet. */
+void kt_log(int quiet, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Atomic output: written to a temporary beside the target and renamed on commit, so a failed
+ * run leaves no partial file. Path "-" is stdout (no rename). */
+typedef struct kt_out {
+    FILE *f;
+    char *path, *tmp;
+    int is_stdout;
+} kt_out;
+
+int kt_out_open(kt_out *o, const char *path, kt_err *e);
+int kt_out_commit(kt_out *o, kt_err *e);
+void kt_out_abort(kt_out *o);
+
+/* Make a directory (and parents) if it does not exist. */
+int kt_mkdir_p(const char *path, kt_err *e);
+
+/* Parse a whole string as a double / int; 0 on success. */
+int kt_parse_double(const char *s, double *v);
+int kt_parse_int(const char *s, int *v);
+
+#endif

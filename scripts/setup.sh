@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages keratome needs, when any is missing. Idempotent.
+set -euo pipefail
+pkgs=(build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libopenblas-dev
+      libgmsh-dev gmsh libcgal-dev libcgal-demo libyaml-dev libpng-dev
+      python3-meshio python3-numpy gnuplot-nox)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  SUDO=; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+else
+  echo "setup: all packages present" >&2
+fi
+# Real third-party inputs for the CGAL models: extracted from libcgal-demo, never committed.
+data=share/data
+if [ ! -f "$data/bunny00.off" ] || [ ! -f "$data/liver.inr.gz" ]; then
+  mkdir -p "$data"
+  tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$data" --strip-components=2 \
+      data/meshes/bunny00.off data/images/liver.inr.gz
+fi
