@@ -2,7 +2,8 @@
  * constraints and nodal forces, grouped by step. Line-oriented text, streamable:
  *
  *   keratome-edits 1
- *   scene plans/eye.yaml
+ *   scene plans/eye.yaml               (the scene the mesh was built from)
+ *   plan plans/lri-paired-60.yaml      (optional: the plan, for curvature's target)
  *   mesh eye.msh 20411 98231          (file, node count, tet count the edits apply to)
  *   step 1 arc 0-5 deg
  *   dup 1204 20412 3 88 91 1502       (node, new node, count, the tets that move to it)
@@ -41,6 +42,7 @@ typedef struct kt_step {
 
 typedef struct kt_edits_header {
     char scene[1024];
+    char plan[1024];   /* may be empty */
     char mesh[1024];
     int nn, ne;      /* counts of the mesh the edits apply to */
 } kt_edits_header;
