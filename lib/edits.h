@@ -52,6 +52,7 @@ typedef struct kt_edits_reader {
     const char *name; /* for messages */
     long line;
     int last_step;
+    int nn_cur;      /* node count after the dups read so far (for range checks) */
     kt_edits_header h;
 } kt_edits_reader;
 

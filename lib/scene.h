@@ -41,6 +41,7 @@ typedef struct kt_eye {
 typedef struct kt_box {
     int n[3];
     double len[3];
+    int fixed_face;             /* face renamed "fixed": 0..5 = xmin xmax ymin ymax zmin zmax, -1 none */
 } kt_box;
 
 /* Surface mesh (OFF/STL) or labelled image (INR) meshed with CGAL. */
@@ -48,6 +49,7 @@ typedef struct kt_cgal {
     char path[1024];            /* resolved relative to the scene file */
     double facet_size, cell_size, facet_distance; /* mm */
     int target_nodes;           /* if > 0, sizes are scaled to reach about this many nodes */
+    double unit;                /* mm per file unit: the mesh is scaled by it (default 1) */
 } kt_cgal;
 
 typedef struct kt_region_mat {
@@ -64,6 +66,8 @@ typedef struct kt_fixation {
     char surface[KT_NAME_MAX];
     unsigned mask;              /* bit c set: component c fixed */
     double value[3];            /* prescribed displacement, mm */
+    int below_axis;             /* -1, or 0..2: mesh-prep creates group 'surface' from the */
+    double below_value;         /* boundary triangles with every vertex at axis <= value (mm) */
 } kt_fixation;
 
 typedef struct kt_scene {
@@ -73,6 +77,8 @@ typedef struct kt_scene {
     int order;                  /* element order, 1 or 2 */
     int ordering;               /* KT_ORDERING_* */
     char ordering_set[KT_NAME_MAX]; /* surface group put last by the constrained ordering */
+    double ordering_centre;     /* eye: the set's nodes nearest this meridian (deg, and the
+                                   opposite one) are ordered last of all; NAN: no sweep */
     kt_eye eye;
     kt_box box;
     kt_cgal cgal;
@@ -88,8 +94,15 @@ typedef struct kt_scene {
  * unknown units and out-of-range values are KT_EINPUT with "file:line:col: expected ...". */
 int kt_scene_load(const char *path, kt_scene *s, kt_err *e);
 
-/* Materials by region tag for a mesh built from this scene (regions matched by name). */
+/* Materials by region tag for a mesh built from this scene (regions matched by name, then the
+ * scene's "default" entry). Allocates mats->mat (free() it); a region without one is KT_EINPUT. */
 struct kt_materials;
 int kt_scene_materials(const kt_scene *s, const kt_mesh *m, struct kt_materials *mats, kt_err *e);
+
+/* Dirichlet data on a mesh built from this scene: fixed[3*nn] is set to 1 for every fixed DOF
+ * (3*node + component) and g[3*nn] (may be NULL) to its prescribed value in mm; other entries
+ * are left alone. A fixation surface missing from the mesh is KT_EINPUT. */
+int kt_scene_dirichlet(const kt_scene *s, const kt_mesh *m, unsigned char *fixed, double *g,
+                       kt_err *e);
 
 #endif

@@ -1,0 +1,128 @@
+/* augsolve: apply an edits stream step by step with the augmented-matrix method. */
+#include <getopt.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "aug.h"
+
+static const char *USAGE =
+    "usage: augsolve MESH.msh EDITS -o RUN_DIR [options]\n"
+    "Apply the edits stream (keratome-edits(5); - reads stdin, each step solved as soon as its\n"
+    "'end' arrives) to the mesh step by step and solve the linear elastic response under the\n"
+    "scene's loads. Step 0 is the intact scene. Writes RUN_DIR/step-NNNN.vtk, steps.tsv, run.yaml.\n"
+    "  -o RUN_DIR            the run folder (created if needed; required)\n"
+    "  --scene PATH          scene YAML (default: the one the edits header names)\n"
+    "  --method M            augmented (default), refactor, cg, pcg-jacobi\n"
+    "  --tol T               relative residual ||K u - f|| / ||f|| to stop at (default 1e-10);\n"
+    "                        GMRES tests it through the force-weighted Schur residual\n"
+    "  --restart N           GMRES restart length (default 200)\n"
+    "  --maxit N             iteration cap (default 2000 GMRES, 20000 CG)\n"
+    "  --precond P           none, diag (H D^-1 J) or spai (H S J, tridiagonal; default)\n"
+    "  --ordering O          natural (the mesh's order, default), amd, metis\n"
+    "  --factor F            supernodal (default) or simplicial\n"
+    "  --refactor POLICY     never (default), m>N, every:N, auto: background re-factorization\n"
+    "  --refactor-sync       wait for a started factorization at the next step (reproducible)\n"
+    "  --output all|SET      displacements everywhere (default) or only on the nodes of the\n"
+    "                        named surface (restricted back-substitution; NaN elsewhere)\n"
+    "  --verify              also factor K from scratch each step and compare\n"
+    "  --verify-tol T        largest accepted relative difference (default 1e-8)\n"
+    "  --no-vtk              write no step VTKs (benchmarks)\n"
+    "  --binary              binary legacy VTK\n"
+    "  -q, --quiet           no progress on stderr\n"
+    "  -h, --help            this text\n"
+    "Exit status: 0 ok, 1 numerical failure (GMRES/CG missing --tol, a factor that is not\n"
+    "positive definite, a --verify difference above --verify-tol), 2 bad usage or input.\n"
+    "See augsolve(1) and keratome-edits(5).\n";
+
+static int usage_error(const char *msg, const char *arg)
+{
+    fprintf(stderr, "augsolve: %s%s%s (see augsolve --help)\n", msg, arg ? ": " : "",
+            arg ? arg : "");
+    return KT_EINPUT;
+}
+
+enum { O_SCENE = 256, O_METHOD, O_TOL, O_RESTART, O_MAXIT, O_PRECOND, O_ORDERING, O_FACTOR,
+       O_REFACTOR, O_SYNC, O_OUTPUT, O_VERIFY, O_VTOL, O_NOVTK, O_BINARY };
+
+/* One option; returns 0, or the exit code of a usage error. */
+static int option(int c, const char *arg, kt_aug_run_opts *o)
+{
+    kt_aug_opts *a = &o->aug;
+    int n;
+    switch (c) {
+    case 'o': o->run_dir = arg; return 0;
+    case 'q': a->quiet = 1; return 0;
+    case O_SCENE: o->scene = arg; return 0;
+    case O_METHOD: return kt_aug_parse_method(arg, &a->method) ? usage_error("bad --method", arg) : 0;
+    case O_TOL:
+        return kt_parse_double(arg, &a->tol) || !(a->tol > 0 && a->tol < 1)
+                   ? usage_error("--tol expects a number in (0, 1)", arg) : 0;
+    case O_RESTART:
+        return kt_parse_int(arg, &a->restart) || a->restart < 1
+                   ? usage_error("--restart expects a positive integer", arg) : 0;
+    case O_MAXIT:
+        return kt_parse_int(arg, &a->maxit) || a->maxit < 1
+                   ? usage_error("--maxit expects a positive integer", arg) : 0;
+    case O_PRECOND:
+        return kt_aug_parse_precond(arg, &a->precond) ? usage_error("bad --precond", arg) : 0;
+    case O_ORDERING:
+        return kt_aug_parse_ordering(arg, &a->ordering) ? usage_error("bad --ordering", arg) : 0;
+    case O_FACTOR:
+        return kt_aug_parse_factor(arg, &a->factor) ? usage_error("bad --factor", arg) : 0;
+    case O_REFACTOR:
+        return kt_aug_parse_refactor(arg, &a->refactor, &a->refactor_n)
+                   ? usage_error("bad --refactor (never, m>N, every:N, auto)", arg) : 0;
+    case O_SYNC: a->refactor_sync = 1; return 0;
+    case O_OUTPUT:
+        n = (int)strlen(arg);
+        if (n == 0 || n >= KT_NAME_MAX) return usage_error("bad --output", arg);
+        if (strcmp(arg, "all") != 0) strcpy(a->output, arg);
+        return 0;
+    case O_VERIFY: a->verify = 1; return 0;
+    case O_VTOL:
+        return kt_parse_double(arg, &a->verify_tol) || !(a->verify_tol > 0)
+                   ? usage_error("--verify-tol expects a positive number", arg) : 0;
+    case O_NOVTK: o->vtk = 0; return 0;
+    case O_BINARY: o->binary = 1; return 0;
+    }
+    return usage_error("unknown or incomplete option", arg);
+}
+
+int main(int argc, char **argv)
+{
+    static const struct option LONG[] = {
+        {"scene", required_argument, NULL, O_SCENE}, {"method", required_argument, NULL, O_METHOD},
+        {"tol", required_argument, NULL, O_TOL}, {"restart", required_argument, NULL, O_RESTART},
+        {"maxit", required_argument, NULL, O_MAXIT}, {"precond", required_argument, NULL, O_PRECOND},
+        {"ordering", required_argument, NULL, O_ORDERING},
+        {"factor", required_argument, NULL, O_FACTOR},
+        {"refactor", required_argument, NULL, O_REFACTOR},
+        {"refactor-sync", no_argument, NULL, O_SYNC}, {"output", required_argument, NULL, O_OUTPUT},
+        {"verify", no_argument, NULL, O_VERIFY}, {"verify-tol", required_argument, NULL, O_VTOL},
+        {"no-vtk", no_argument, NULL, O_NOVTK}, {"binary", no_argument, NULL, O_BINARY},
+        {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+    kt_aug_run_opts o;
+    memset(&o, 0, sizeof o);
+    o.vtk = 1;
+    kt_aug_opts_default(&o.aug);
+    int c, rc;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "o:qh", LONG, NULL)) != -1) {
+        if (c == 'h') {
+            fputs(USAGE, stdout);
+            return 0;
+        }
+        if (c == '?' || c == ':') return usage_error("unknown or incomplete option", argv[optind - 1]);
+        if ((rc = option(c, optarg, &o))) return rc;
+    }
+    if (optind != argc - 2) return usage_error("expected a mesh and an edits stream", NULL);
+    if (!o.run_dir) return usage_error("expected -o RUN_DIR", NULL);
+    o.mesh = argv[optind];
+    o.edits = argv[optind + 1];
+    kt_err e = {0};
+    if (kt_aug_run(&o, &e)) {
+        fprintf(stderr, "augsolve: %s\n", e.msg);
+        return e.code;
+    }
+    return 0;
+}

@@ -1,0 +1,113 @@
+/* curvature: simulated keratometry of every step of an augsolve run (see curvature(1)). */
+#define _POSIX_C_SOURCE 200809L
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "curv.h"
+
+static const char usage[] =
+    "usage: curvature [options] RUN_DIR\n"
+    "       curvature [options] --mesh MESH.msh STEP.vtk...\n"
+    "Simulated keratometry of the deformed anterior cornea at every step: K steep/flat, axis,\n"
+    "cylinder, flattening of the incised meridian, steepening of the orthogonal one, coupling\n"
+    "ratio and Alpins vector analysis; writes curvature.tsv, meridians.tsv, surface-NNNN.vtk and\n"
+    "axial-NNNN.png, and prints a summary.\n"
+    "  --zone MM          keratometry zone diameter, mm (3, 5 or 7; default 3)\n"
+    "  --fit KIND         toric (default: biconic with free apex) or zernike\n"
+    "  --order N          Zernike order of the zone fit (2..12, default 6)\n"
+    "  --map-zone MM      diameter of the axial power map, mm (default 8)\n"
+    "  --map-order N      Zernike order of the map fit (2..12, default 8)\n"
+    "  --meridian DEG     incised meridian (default: the plan's first incision, else the\n"
+    "                     steep meridian of step 0)\n"
+    "  --plan PLAN.yaml   plan for the incised meridian and target (default: run.yaml's plan)\n"
+    "  --mesh MESH.msh    input mesh (with the 'anterior' surface group) of the step files\n"
+    "  --png / --no-png   write the axial power maps (default on)\n"
+    "  --no-vtk           do not write the surface VTKs\n"
+    "  --scale TSV        colour scale of the maps (default share/colour/axial.tsv)\n"
+    "  -o OUTDIR          output folder (default RUN_DIR, or . with --mesh)\n"
+    "  -q                 no progress on stderr\n"
+    "  -h, --help         this help\n";
+
+static int bad(const char *fmt, const char *arg)
+{
+    fprintf(stderr, "curvature: ");
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\n");
+    return KT_EINPUT;
+}
+
+int main(int argc, char **argv)
+{
+    enum { O_ZONE = 256, O_FIT, O_ORDER, O_MAPZONE, O_MAPORDER, O_MERIDIAN, O_PLAN, O_MESH, O_PNG,
+           O_NOPNG, O_NOVTK, O_SCALE };
+    static const struct option lo[] = {
+        {"zone", required_argument, 0, O_ZONE},         {"fit", required_argument, 0, O_FIT},
+        {"order", required_argument, 0, O_ORDER},       {"map-zone", required_argument, 0, O_MAPZONE},
+        {"map-order", required_argument, 0, O_MAPORDER}, {"meridian", required_argument, 0, O_MERIDIAN},
+        {"plan", required_argument, 0, O_PLAN},         {"mesh", required_argument, 0, O_MESH},
+        {"png", no_argument, 0, O_PNG},                 {"no-png", no_argument, 0, O_NOPNG},
+        {"no-vtk", no_argument, 0, O_NOVTK},            {"scale", required_argument, 0, O_SCALE},
+        {"help", no_argument, 0, 'h'},                  {0, 0, 0, 0}};
+    kt_curv_opts o;
+    kt_curv_opts_default(&o);
+    int c;
+    while ((c = getopt_long(argc, argv, "o:qh", lo, NULL)) != -1) {
+        switch (c) {
+        case O_ZONE:
+            if (kt_parse_double(optarg, &o.zone) || !(o.zone >= 1 && o.zone <= 10))
+                return bad("--zone %s: expected a diameter in mm, 1 to 10 (3, 5 or 7 usual)", optarg);
+            break;
+        case O_FIT:
+            if (strcmp(optarg, "zernike") == 0) o.fit = KT_FIT_ZERNIKE;
+            else if (strcmp(optarg, "toric") == 0) o.fit = KT_FIT_TORIC;
+            else return bad("--fit %s: expected zernike or toric", optarg);
+            break;
+        case O_ORDER:
+            if (kt_parse_int(optarg, &o.order) || o.order < 2 || o.order > KT_ZERN_ORDER_MAX)
+                return bad("--order %s: expected an integer 2..12", optarg);
+            break;
+        case O_MAPZONE:
+            if (kt_parse_double(optarg, &o.map_zone) || !(o.map_zone >= 1 && o.map_zone <= 14))
+                return bad("--map-zone %s: expected a diameter in mm, 1 to 14", optarg);
+            break;
+        case O_MAPORDER:
+            if (kt_parse_int(optarg, &o.map_order) || o.map_order < 2 || o.map_order > KT_ZERN_ORDER_MAX)
+                return bad("--map-order %s: expected an integer 2..12", optarg);
+            break;
+        case O_MERIDIAN:
+            if (kt_parse_double(optarg, &o.meridian) || !isfinite(o.meridian))
+                return bad("--meridian %s: expected an angle in degrees", optarg);
+            break;
+        case O_PLAN: o.plan = optarg; break;
+        case O_MESH: o.mesh = optarg; break;
+        case O_PNG: o.png = 1; break;
+        case O_NOPNG: o.png = 0; break;
+        case O_NOVTK: o.vtk_out = 0; break;
+        case O_SCALE: o.scale = optarg; break;
+        case 'o': o.outdir = optarg; break;
+        case 'q': o.quiet = 1; break;
+        case 'h': fputs(usage, stdout); return 0;
+        default: fputs(usage, stderr); return KT_EINPUT;
+        }
+    }
+    if (o.mesh) {
+        o.vtk = (const char *const *)(argv + optind);
+        o.nvtk = argc - optind;
+        if (o.nvtk < 1) return bad("%s: expected at least one step VTK after --mesh", o.mesh);
+    } else {
+        if (argc - optind != 1) {
+            fputs(usage, stderr);
+            return KT_EINPUT;
+        }
+        o.run_dir = argv[optind];
+    }
+    kt_err e = {0};
+    if (kt_curv_run(&o, stdout, &e) != KT_OK) {
+        fprintf(stderr, "curvature: %s\n", e.msg);
+        return e.code;
+    }
+    return 0;
+}

@@ -1,0 +1,113 @@
+/* aug_cols.c: columns of the current stiffness K, computed from the element stiffness of the
+ * tets around a node (never by reassembling K). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "aug_impl.h"
+
+int aug_col_reserve(aug_col *c, int n, kt_err *e)
+{
+    if (n <= c->cap) return KT_OK;
+    int cap = c->cap ? c->cap : 16;
+    while (cap < n) cap *= 2;
+    int *i = kt_realloc(c->i, (size_t)cap, sizeof(int), e);
+    if (!i) return e->code;
+    c->i = i;
+    double *x = kt_realloc(c->x, (size_t)cap, sizeof(double), e);
+    if (!x) return e->code;
+    c->x = x;
+    c->cap = cap;
+    return KT_OK;
+}
+
+void aug_col_free(aug_col *c)
+{
+    free(c->i);
+    free(c->x);
+    memset(c, 0, sizeof *c);
+}
+
+/* Local index of node a in tet t (nv nodes), -1 if absent. */
+static int local_of(const int *t, int nv, int a)
+{
+    for (int k = 0; k < nv; k++)
+        if (t[k] == a) return k;
+    return -1;
+}
+
+/* The neighbours of a (nodes sharing a tet, a first) get slots 0..nb-1 in A->nmark. */
+static int neighbour_slots(kt_aug *A, int a, int *nodes, int cap)
+{
+    int nv = kt_tet_nv(A->mesh.order), nb = 0;
+    A->nstamp++;
+    for (int k = 0; k < A->adj_n[a]; k++) {
+        const int *t = A->mesh.tet + (size_t)A->adj[a][k] * nv;
+        for (int l = 0; l < nv; l++) {
+            int b = t[l];
+            if (A->nmark[b] == A->nstamp) continue;
+            A->nmark[b] = A->nstamp;
+            if (nb < cap) nodes[nb] = b;
+            nb++;
+        }
+    }
+    return nb;
+}
+
+static int slot_of(const int *nodes, int nb, int b)
+{
+    for (int k = 0; k < nb; k++)
+        if (nodes[k] == b) return k;
+    return -1;
+}
+
+/* Add tet t's contribution to the three columns of node a, accumulated densely by slot. */
+static int add_tet(kt_aug *A, int tet, int a, const int *nodes, int nb, double *acc, double *Ke,
+                   kt_err *e)
+{
+    int nv = kt_tet_nv(A->mesh.order), nd = 3 * nv;
+    const int *t = A->mesh.tet + (size_t)tet * nv;
+    double x[30];
+    for (int l = 0; l < nv; l++) memcpy(x + 3 * l, A->mesh.xyz + 3 * (size_t)t[l], 3 * sizeof(double));
+    int tag = A->mesh.tet_tag[tet];
+    if (tag < 0 || tag >= A->mats.nmat)
+        return kt_fail(e, KT_EINPUT, "tet %d has region tag %d without a material", tet + 1, tag);
+    if (kt_fem_tet_stiffness(A->mesh.order, x, A->mats.mat[tag], Ke, e)) return e->code;
+    int la = local_of(t, nv, a);
+    for (int l = 0; l < nv; l++) {
+        int s = slot_of(nodes, nb, t[l]);
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                acc[(3 * s + r) * 3 + c] += Ke[(size_t)(3 * l + r) * nd + 3 * la + c];
+    }
+    return KT_OK;
+}
+
+int aug_node_columns(kt_aug *A, int a, aug_col col[3], kt_err *e)
+{
+    int nodes_small[256];
+    int nb = neighbour_slots(A, a, nodes_small, 256);
+    int *nodes = nodes_small;
+    if (nb > 256) {
+        nodes = kt_calloc((size_t)nb, sizeof(int), e);
+        if (!nodes) return e->code;
+        neighbour_slots(A, a, nodes, nb);
+    }
+    double *acc = kt_calloc((size_t)nb * 9, sizeof(double), e);
+    double *Ke = kt_calloc(900, sizeof(double), e);
+    for (int k = 0; k < 3 && !e->code; k++) aug_col_reserve(&col[k], 3 * nb, e);
+    for (int k = 0; k < A->adj_n[a] && !e->code; k++)
+        add_tet(A, A->adj[a][k], a, nodes, nb, acc, Ke, e);
+    if (!e->code)
+        for (int c = 0; c < 3; c++) {
+            col[c].n = 0;
+            for (int s = 0; s < nb; s++)
+                for (int r = 0; r < 3; r++) {
+                    col[c].i[col[c].n] = 3 * nodes[s] + r;
+                    col[c].x[col[c].n++] = acc[(3 * s + r) * 3 + c];
+                }
+        }
+    if (nodes != nodes_small) free(nodes);
+    free(acc);
+    free(Ke);
+    return e->code;
+}

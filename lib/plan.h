@@ -1,0 +1,111 @@
+/* plan.h: the incision plan (man5 keratome-plan): limbal relaxing incisions on an eye scene,
+ * or benchmark plans (an advancing planar cut, progressive constraints and forces).
+ *
+ * Angles follow the TABO convention of eye.h: degrees counter-clockwise from +x seen from the
+ * front (+z), the eye axis +z. Internal units: mm, N, deg, D. Every field keeps the file
+ * position it came from, so checks made later (against the mesh) still name file:line:col. */
+#ifndef KT_PLAN_H
+#define KT_PLAN_H
+
+#include "mesh.h"
+#include "scene.h"
+
+#define KT_PLAN_MAX 16
+
+/* How the blade advances along an arc. */
+enum { KT_BLADE_CW = 0, KT_BLADE_CCW = 1, KT_BLADE_CENTRE_OUT = 2 };
+/* What a deformation entry prescribes. */
+enum { KT_DEFORM_FIX = 1, KT_DEFORM_FORCE = 2 };
+
+/* A position in the plan file (1-based; 0 when the field was absent). */
+typedef struct kt_mark {
+    int line, col;
+} kt_mark;
+
+/* How much each step adds: degrees of arc (arcs only) or duplicated nodes (any cut). */
+typedef struct kt_progression {
+    double degrees_per_step; /* > 0, or 0 when nodes_per_step is used */
+    int nodes_per_step;      /* > 0, or 0 */
+} kt_progression;
+
+typedef struct kt_incision {
+    double meridian;            /* the arc's centre, deg in [0, 360) */
+    double arc;                 /* arc length, deg in (0, 360] */
+    double depth;               /* mm below the anterior surface (resolved from the fraction) */
+    double depth_fraction;      /* as given (0 when depth was given as a length) */
+    double diameter;            /* the ring's diameter, mm (given, or the named ring's) */
+    char surface[KT_NAME_MAX];  /* the incision-ready surface; empty when the scene has no ring
+                                 * at that diameter: the cut is then snapped onto the cylinder */
+    int paired;                 /* 1: also the opposite arc (meridian + 180) */
+    int direction;              /* KT_BLADE_* */
+    kt_progression prog;        /* the plan's progression unless the incision has its own */
+    kt_mark at, at_depth, at_position;
+} kt_incision;
+
+typedef struct kt_deform {
+    int kind;                   /* KT_DEFORM_FIX or KT_DEFORM_FORCE */
+    char set[KT_NAME_MAX];      /* a surface (dim 2) or region (dim 3) group of the mesh */
+    int set_dim;
+    unsigned mask;              /* FIX: components prescribed (bit c) */
+    double v[3];                /* FIX: displacement, mm; FORCE: total force on the set, N */
+    int steps;                  /* ramp: every node of the set, value k/steps at step k */
+    int nodes_per_step;         /* or: this many more nodes per step, each at the full value */
+    int max_nodes;              /* only the first max_nodes nodes of the set (0: all) */
+    double order[3];            /* nodes are taken by increasing x . order (then x, y, z) */
+    kt_mark at, at_set;
+} kt_deform;
+
+typedef struct kt_planar {
+    int set;                    /* 1 when the plan has a planar_cut block */
+    double point[3];            /* a point of the plane, mm */
+    double normal[3];           /* unit normal; the side it points to moves to new nodes */
+    double advance[3];          /* unit direction of the blade, in the plane */
+    double length;              /* how far the front advances, mm (0: through the whole body) */
+    int nodes_per_step;
+    double pull_force;          /* N on each side, split over the pulled nodes; 0: none */
+    char pull_surface[KT_NAME_MAX]; /* pulled nodes: the cut's nodes on this surface
+                                     * (empty: the nodes duplicated in the first step) */
+    kt_mark at, at_pull;
+} kt_planar;
+
+/* The intended correction, for curvature's vector analysis. */
+typedef struct kt_target {
+    int set;
+    double magnitude;           /* D */
+    double axis;                /* deg, [0, 180) */
+} kt_target;
+
+/* Cuts made without an incision-ready surface snap nearby nodes onto the cutting surface. */
+typedef struct kt_snap {
+    double fraction;            /* snap a node closer than this fraction of its shortest edge */
+    double min_quality;         /* refuse when an element's mean-ratio quality would fall
+                                 * below this (and below its value before snapping) */
+} kt_snap;
+
+typedef struct kt_plan {
+    char path[1024];            /* as given ("-": stdin) */
+    char scene_path[1024];      /* resolved relative to the plan's folder */
+    kt_scene scene;
+    int ninc;
+    kt_incision inc[KT_PLAN_MAX];
+    int ndeform;
+    kt_deform deform[KT_PLAN_MAX];
+    kt_planar planar;
+    kt_progression prog;        /* default progression: 5 degrees per step */
+    kt_snap snap;
+    kt_target target;
+} kt_plan;
+
+/* Load and validate a plan and the scene it names. Bad input (unknown or duplicate key, wrong
+ * type or unit, arc outside (0, 360], depth not positive or beyond the local corneal
+ * thickness or the incision-ready surface, missing scene) is KT_EINPUT "file:line:col: ...". */
+int kt_plan_load(const char *path, kt_plan *p, kt_err *e);
+
+/* Check the plan against the mesh it will cut: every named surface and region exists (KT_EINPUT
+ * at the naming field otherwise), eye plans need the 'anterior' surface. */
+int kt_plan_check_mesh(const kt_plan *p, const kt_mesh *m, const char *mesh_name, kt_err *e);
+
+/* "file:line:col" of a mark (the plan path alone when the mark is unset). */
+void kt_plan_where(const kt_plan *p, kt_mark at, char *buf, size_t size);
+
+#endif

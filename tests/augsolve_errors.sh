@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# augsolve_errors.sh BUILD_DIR: augsolve's documented failures. Bad edits streams exit 2 with
+# one "file:line:col: expected ..." line (or a step-level message) and leave no steps.tsv;
+# GMRES that cannot reach --tol exits 1; a good stream piped from cutplan runs to the end,
+# agrees with a fresh factorization (--verify) and its VTKs read back with meshio.
+set -uo pipefail
+B=${1:?build dir}
+T=$(mktemp -d /tmp/augsolve_errors.XXXXXX)
+trap 'rm -rf "$T"' EXIT
+fail=0
+check() { # check NAME EXPECTED_RC GREP_PATTERN RUN_DIR -- command...
+    local name=$1 want=$2 pat=$3 run=$4
+    shift 5
+    "$@" >"$T/out" 2>"$T/err"
+    local rc=$?
+    if [ "$rc" != "$want" ]; then
+        echo "FAIL $name: exit $rc, expected $want"; cat "$T/err"; fail=1; return
+    fi
+    if [ -n "$pat" ] && ! grep -q -- "$pat" "$T/err"; then
+        echo "FAIL $name: stderr lacks '$pat':"; cat "$T/err"; fail=1; return
+    fi
+    if [ "$want" != 0 ] && [ -e "$run/steps.tsv" ]; then
+        echo "FAIL $name: steps.tsv left behind"; fail=1; return
+    fi
+    if [ "$want" != 0 ] && ls "$run" 2>/dev/null | grep -q '\.tmp\.'; then
+        echo "FAIL $name: temporary file left behind"; fail=1; return
+    fi
+    echo "ok   $name"
+}
+
+"$B/mesh-prep" plans/beam-16.yaml -o "$T/beam.msh" -q >/dev/null || { echo "mesh-prep failed"; exit 1; }
+"$B/cutplan" plans/cut-beam-16.yaml "$T/beam.msh" -o "$T/cut.edits" -q || { echo "cutplan failed"; exit 1; }
+read -r _ _ _ NN NE < <(grep -m1 '^mesh ' "$T/cut.edits" | awk '{print $1, $2, $2, $3, $4}')
+S=$(grep -m1 '^scene ' "$T/cut.edits" | cut -d' ' -f2-)
+hdr() { printf 'keratome-edits 1\nscene %s\nmesh %s %s %s\n' "$S" "$T/beam.msh" "$NN" "$NE"; }
+
+# A good run from a pipe, verified against fresh factorizations each step.
+check "stream from cutplan, --verify" 0 "" "$T/ok" -- bash -c \
+    "'$B/cutplan' plans/cut-beam-16.yaml '$T/beam.msh' -o - -q | '$B/augsolve' '$T/beam.msh' - -o '$T/ok' --verify -q"
+steps=$(grep -c '^step ' "$T/cut.edits")
+rows=$(($(wc -l <"$T/ok/steps.tsv") - 1))
+[ "$rows" = $((steps + 1)) ] || { echo "FAIL steps.tsv has $rows rows for $steps steps + step 0"; fail=1; }
+awk -F'\t' 'NR > 1 && !($14 + 0 <= 1e-8) { bad = 1 } END { exit bad }' "$T/ok/steps.tsv" ||
+    { echo "FAIL verify_rel_diff above 1e-8"; fail=1; }
+grep -q "^steps: $steps$" "$T/ok/run.yaml" || { echo "FAIL run.yaml steps"; fail=1; }
+if /usr/bin/python3 -c 'import meshio' 2>/dev/null; then
+    last=$(printf '%s/ok/step-%04d.vtk' "$T" "$steps")
+    /usr/bin/python3 - "$last" "$NN" "$steps" <<'EOF' || { echo "FAIL meshio read-back"; fail=1; }
+import sys, meshio, numpy as np
+m = meshio.read(sys.argv[1])
+nn0, steps = int(sys.argv[2]), int(sys.argv[3])
+u = m.point_data["displacement"]; o = m.point_data["origin"]
+assert u.shape == (len(m.points), 3) and np.all(np.isfinite(u)), "displacement"
+assert len(m.points) > nn0, "duplicated nodes appended"
+assert o.min() >= 1 and o.max() <= nn0, "origin numbers the input nodes"
+assert np.all(o[:nn0].ravel() == np.arange(1, nn0 + 1)), "original nodes are their own origin"
+assert "region" in m.cell_data, "region"
+print("meshio: %d points, max |u| %.3g mm" % (len(m.points), np.abs(u).max()))
+EOF
+fi
+
+# Bad streams: exit 2, one clear line, nothing half-written.
+{ hdr; printf 'step 1\nforce 99999 0 0 1\nend\n'; } >"$T/e1"
+check "unknown node" 2 "e1:5:7: expected a node number in 1..$NN" "$T/r1" -- "$B/augsolve" "$T/beam.msh" "$T/e1" -o "$T/r1" -q
+{ hdr; printf 'step 1\ndup 1 %d 1 99999\nend\n' $((NN + 1)); } >"$T/e2"
+check "unknown tet" 2 "expected a tet number in 1..$NE" "$T/r2" -- "$B/augsolve" "$T/beam.msh" "$T/e2" -o "$T/r2" -q
+{ hdr; printf 'step 1\ndup 1 %d 1 1\nend\n' $((NN + 5)); } >"$T/e3"
+check "wrong new node number" 2 "expected new node number $((NN + 1))" "$T/r3" -- "$B/augsolve" "$T/beam.msh" "$T/e3" -o "$T/r3" -q
+head -n 12 "$T/cut.edits" | grep -v '^end' >"$T/e4"
+check "truncated stream" 2 "found the end of the stream" "$T/r4" -- "$B/augsolve" "$T/beam.msh" "$T/e4" -o "$T/r4" -q
+{ printf 'keratome-edits 1\nscene %s\nmesh x.msh 5 5\n' "$S"; } >"$T/e5"
+check "edits for another mesh" 2 "expected the $NN nodes" "$T/r5" -- "$B/augsolve" "$T/beam.msh" "$T/e5" -o "$T/r5" -q
+{ hdr; printf 'step 1\ndup 1 %d 1 %d\nend\n' $((NN + 1)) "$NE"; } >"$T/e6"
+check "tet without that node" 2 "does not hold that node" "$T/r6" -- "$B/augsolve" "$T/beam.msh" "$T/e6" -o "$T/r6" -q
+{ printf 'keratome-edits 1\nmesh %s %s %s\n' "$T/beam.msh" "$NN" "$NE"; } >"$T/e7"
+check "no scene" 2 "names no scene" "$T/r7" -- "$B/augsolve" "$T/beam.msh" "$T/e7" -o "$T/r7" -q
+check "bad option" 2 "bad --method" "$T/r8" -- "$B/augsolve" "$T/beam.msh" "$T/e7" -o "$T/r8" --method lu
+
+# Numerical failure: GMRES held to 1 iteration at an unreachable tolerance: exit 1.
+check "GMRES misses --tol" 1 "GMRES did not reach" "$T/r9" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r9" --maxit 1 --tol 1e-15 --precond none -q
+check "--verify-tol exceeded" 1 "differ by" "$T/r10" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r10" --tol 1e-3 --verify --verify-tol 1e-15 -q
+exit $fail

@@ -1,0 +1,69 @@
+#!/bin/bash
+# meshprep_errors.sh BUILD_DIR: bad scenes and bad usage make mesh-prep exit 2 with one line
+# on stderr naming file:line:col (or the file) and what was expected, and leave no output.
+set -u
+bin="$1/mesh-prep"
+tmp=$(mktemp -d /tmp/kt-meshprep-err.XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+
+# expect_fail NAME PATTERN ARGS...: exit 2, exactly one stderr line matching PATTERN, nothing
+# on stdout, and no file left in the output folder.
+expect_fail() {
+    local name=$1 pattern=$2
+    shift 2
+    rm -rf "$tmp/out"
+    mkdir "$tmp/out"
+    "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
+    local rc=$?
+    local lines
+    lines=$(wc -l <"$tmp/stderr")
+    if [ $rc -ne 2 ]; then echo "FAILED $name: exit $rc, expected 2"; fail=1; fi
+    if [ "$lines" -ne 1 ]; then echo "FAILED $name: $lines lines on stderr"; cat "$tmp/stderr"; fail=1; fi
+    if ! grep -qE -- "$pattern" "$tmp/stderr"; then
+        echo "FAILED $name: stderr does not match '$pattern':"; cat "$tmp/stderr"; fail=1
+    fi
+    if [ -s "$tmp/stdout" ]; then echo "FAILED $name: output on stdout"; fail=1; fi
+    if [ -n "$(ls -A "$tmp/out")" ]; then echo "FAILED $name: left $(ls -A "$tmp/out")"; fail=1; fi
+}
+
+scene() { # scene NAME TEXT: write a scene file
+    printf '%s' "$2" >"$tmp/$1.yaml"
+}
+
+scene malformed $'model: eye\neye:\n  extent: [90 deg\n'
+expect_fail malformed "malformed.yaml:4:1: expected well-formed YAML" "$tmp/malformed.yaml" -o "$tmp/out/x.msh"
+
+scene unknown $'model: eye\neye:\n  central_thicknes: 540 um\n'
+expect_fail "unknown key" "unknown.yaml:3:3: eye: unknown key 'central_thicknes'" "$tmp/unknown.yaml" -o "$tmp/out/x.msh"
+
+scene negative $'model: eye\neye:\n  peripheral_thickness: -0.6 mm\n'
+expect_fail "negative thickness" "negative.yaml:3:25: eye.peripheral_thickness: expected a length in \[0.05, 5\] mm" \
+    "$tmp/negative.yaml" -o "$tmp/out/x.msh"
+
+scene oz $'model: eye\neye:\n  white_to_white: 11.7 mm\n  optical_zone: 12 mm\n'
+expect_fail "optical zone outside the cornea" "oz.yaml:4:17: eye.optical_zone: expected a diameter inside the clear cornea" \
+    "$tmp/oz.yaml" -o "$tmp/out/x.msh"
+
+scene ring $'model: eye\neye:\n  incision_rings:\n    - {name: lri, diameter: 12 mm, depth_fraction: 0.9}\n'
+expect_fail "ring outside the cornea" "ring.yaml:4:29: eye.incision_rings\[0\].diameter: expected a diameter in" \
+    "$tmp/ring.yaml" -o "$tmp/out/x.msh"
+
+scene nofile $'model: surface\nsurface:\n  file: missing.off\n  facet_size: 1 mm\n  facet_distance: 0.1 mm\n  cell_size: 1 mm\n'
+expect_fail "missing model file" "nofile.yaml:3:9: surface.file: expected an existing, readable file" \
+    "$tmp/nofile.yaml" -o "$tmp/out/x.msh"
+
+expect_fail "missing scene file" "no-such-scene.yaml: cannot open" "$tmp/no-such-scene.yaml" -o "$tmp/out/x.msh"
+
+expect_fail "nonexistent output folder" "$tmp/out/none/x.msh: cannot create output file" \
+    plans/beam-4.yaml -o "$tmp/out/none/x.msh"
+
+expect_fail "no output option" "expected -o OUT.msh" plans/beam-4.yaml
+expect_fail "bad ordering" "unknown --ordering: rcm" plans/beam-4.yaml -o "$tmp/out/x.msh" --ordering rcm
+expect_fail "bad order" "--order expects 1 or 2" plans/beam-4.yaml -o "$tmp/out/x.msh" --order 3
+
+# A good scene into the same folder does leave its file (the checks above can see files).
+"$bin" plans/beam-4.yaml -o "$tmp/out/ok.msh" -q >/dev/null 2>&1
+if [ ! -s "$tmp/out/ok.msh" ]; then echo "FAILED: good scene wrote nothing"; fail=1; fi
+
+exit $fail

@@ -1,0 +1,180 @@
+/* test_aug_output.c: the restricted back-substitution (--output SET) gives the full solve's
+ * values on the set; GMRES that cannot reach its tolerance is a loud KT_ERUN; bad edits are
+ * KT_EINPUT; a 1,000-step run that only changes forces does not grow in memory. */
+#include <stdio.h>
+#include <unistd.h>
+
+#include "aug_scenario.h"
+#include "kt_test.h"
+
+/* Current resident set size in kB (Linux /proc/self/statm). */
+static long rss_kb(void)
+{
+    FILE *f = fopen("/proc/self/statm", "r");
+    long size = 0, res = 0;
+    if (f) {
+        if (fscanf(f, "%ld %ld", &size, &res) != 2) res = 0;
+        fclose(f);
+    }
+    return res * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+/* Cuts and fixes with a full and a restricted run side by side: equal on the set. */
+static void test_restricted(scenario *s)
+{
+    kt_err e = {0};
+    kt_aug_opts o;
+    kt_aug_opts_default(&o);
+    o.quiet = 1;
+    o.tol = 1e-11;
+    kt_aug_opts r = o;
+    strcpy(r.output, "ymax");
+    kt_aug *A = NULL, *B = NULL;
+    CHECK(kt_aug_create(&A, &s->prob, &o, &e) == KT_OK, "%s", e.msg);
+    CHECK(kt_aug_create(&B, &s->prob, &r, &e) == KT_OK, "%s", e.msg);
+    if (!A || !B) return;
+    kt_step st = {0};
+    const kt_group *g = kt_mesh_find_group(&s->mesh, 2, "ymax");
+    for (int step = 1; step <= 8 && !e.code; step++) {
+        kt_step_clear(&st);
+        st.index = step;
+        cut_layer(s, kt_aug_mesh(A), &st, 2, s->nz - step, 0.001, &e);
+        add_fix(&st, grid_node(s, 0, step % s->ny, s->nz - 1), 7u, 0, 1e-3 * step, 0, &e);
+        CHECK(kt_aug_step(A, &st, &e) == KT_OK && kt_aug_step(B, &st, &e) == KT_OK, "%s", e.msg);
+        int *nodes = NULL, cnt = 0, nan_off = 0, off = 0;
+        kt_mesh_group_nodes(kt_aug_mesh(A), g, &nodes, &cnt, &e);
+        const double *ua = kt_aug_displacement(A), *ub = kt_aug_displacement(B);
+        double d = 0, mx = 0;
+        for (int k = 0; k < cnt; k++)
+            for (int c = 0; c < 3; c++) {
+                int i = 3 * nodes[k] + c;
+                d = fmax(d, fabs(ua[i] - ub[i]));
+                mx = fmax(mx, fabs(ua[i]));
+            }
+        CHECK(cnt > 0 && d <= 1e-12 * mx, "step %d: restricted vs full on ymax: %.3g of %.3g",
+              step, d, mx);
+        /* off the set the restricted run leaves NaN */
+        unsigned char *in = calloc((size_t)kt_aug_mesh(A)->nn, 1);
+        for (int k = 0; k < cnt; k++) in[nodes[k]] = 1;
+        for (int a = 0; a < kt_aug_mesh(A)->nn; a++)
+            if (!in[a]) {
+                off++;
+                nan_off += isnan(ub[3 * a]);
+            }
+        CHECK(off > 0 && nan_off == off, "step %d: %d of %d nodes off the set are NaN", step,
+              nan_off, off);
+        CHECK(kt_aug_last(B)->closure_max < 3 * kt_aug_mesh(A)->nn,
+              "step %d: the restricted solve touched all %d DOFs", step, 3 * kt_aug_mesh(A)->nn);
+        free(in);
+        free(nodes);
+    }
+    kt_step_free(&st);
+    kt_aug_free(A);
+    kt_aug_free(B);
+}
+
+static void test_no_convergence(scenario *s)
+{
+    kt_err e = {0};
+    kt_aug_opts o;
+    kt_aug_opts_default(&o);
+    o.quiet = 1;
+    o.maxit = 1;
+    o.tol = 1e-15;
+    o.precond = KT_AUG_PRECOND_NONE;
+    kt_aug *A = NULL;
+    CHECK(kt_aug_create(&A, &s->prob, &o, &e) == KT_OK, "%s", e.msg);
+    if (!A) return;
+    kt_step st = {0};
+    st.index = 1;
+    cut_layer(s, kt_aug_mesh(A), &st, 2, s->nz - 1, 0.001, &e);
+    CHECK(kt_aug_step(A, &st, &e) == KT_ERUN, "expected KT_ERUN, got %d", e.code);
+    CHECK(strstr(e.msg, "GMRES did not reach") != NULL, "message: %s", e.msg);
+    kt_step_free(&st);
+    kt_aug_free(A);
+}
+
+static void test_bad_edits(scenario *s)
+{
+    kt_err e = {0};
+    kt_aug_opts o;
+    kt_aug_opts_default(&o);
+    o.quiet = 1;
+    kt_aug *A = NULL;
+    CHECK(kt_aug_create(&A, &s->prob, &o, &e) == KT_OK, "%s", e.msg);
+    if (!A) return;
+    int nn = kt_aug_mesh(A)->nn, el = 0;
+    kt_step st = {0};
+    st.index = 1;
+    kt_edit bad_new = {.kind = KT_EDIT_DUP, .node = 0, .new_node = nn + 1, .nel = 1, .el = &el};
+    kt_step_add(&st, &bad_new, &e);
+    CHECK(kt_aug_step(A, &st, &e) == KT_EINPUT && strstr(e.msg, "next free"), "new node: %s",
+          e.msg);
+    kt_aug_free(A);
+    A = NULL;
+    e = (kt_err){0};
+    CHECK(kt_aug_create(&A, &s->prob, &o, &e) == KT_OK, "%s", e.msg);
+    kt_step_clear(&st);
+    st.index = 1;
+    el = 5; /* tet 6 does not hold node 1 of the grid's far corner */
+    kt_edit not_there = {.kind = KT_EDIT_DUP, .node = nn - 1, .new_node = nn, .nel = 1, .el = &el};
+    kt_step_add(&st, &not_there, &e);
+    CHECK(kt_aug_step(A, &st, &e) == KT_EINPUT && strstr(e.msg, "does not hold"), "tet: %s",
+          e.msg);
+    kt_aug_free(A);
+    A = NULL;
+    e = (kt_err){0};
+    CHECK(kt_aug_create(&A, &s->prob, &o, &e) == KT_OK, "%s", e.msg);
+    kt_step_clear(&st);
+    st.index = 1;
+    kt_edit far = {.kind = KT_EDIT_FORCE, .node = nn + 3, .v = {1, 0, 0}};
+    kt_step_add(&st, &far, &e);
+    CHECK(kt_aug_step(A, &st, &e) == KT_EINPUT && strstr(e.msg, "force names node"), "force: %s",
+          e.msg);
+    kt_step_free(&st);
+    kt_aug_free(A);
+}
+
+/* 1,000 steps that only change nodal forces: m stays 0 and memory flat. */
+static void test_memory(scenario *s)
+{
+    kt_err e = {0};
+    kt_aug_opts o;
+    kt_aug_opts_default(&o);
+    o.quiet = 1;
+    kt_aug *A = NULL;
+    CHECK(kt_aug_create(&A, &s->prob, &o, &e) == KT_OK, "%s", e.msg);
+    if (!A) return;
+    kt_step st = {0};
+    long rss100 = 0, rss1000 = 0;
+    int top = grid_node(s, 2, 2, s->nz - 1);
+    for (int step = 1; step <= 1000 && !e.code; step++) {
+        kt_step_clear(&st);
+        st.index = step;
+        kt_edit f = {.kind = KT_EDIT_FORCE, .node = top - (step % 3), .v = {1e-3 * (step % 7), 0, -1e-3}};
+        kt_step_add(&st, &f, &e);
+        if (kt_aug_step(A, &st, &e)) break;
+        CHECK(kt_aug_last(A)->m == 0, "step %d: m %d", step, kt_aug_last(A)->m);
+        if (step == 100) rss100 = rss_kb();
+        if (step == 1000) rss1000 = rss_kb();
+    }
+    CHECK(e.code == KT_OK, "%s", e.msg);
+    printf("memory: RSS %ld kB after 100 force steps, %ld kB after 1000\n", rss100, rss1000);
+    CHECK(rss100 > 0 && rss1000 - rss100 < 512, "RSS grew by %ld kB over 900 force-only steps",
+          rss1000 - rss100);
+    kt_step_free(&st);
+    kt_aug_free(A);
+}
+
+int main(void)
+{
+    kt_err e = {0};
+    scenario beam;
+    CHECK(scenario_box(&beam, 5, 5, 16, 1.0, 0.0, &e) == 0, "%s", e.msg);
+    test_restricted(&beam);
+    test_no_convergence(&beam);
+    test_bad_edits(&beam);
+    test_memory(&beam);
+    scenario_free(&beam);
+    return kt_test_done("test_aug_output");
+}
