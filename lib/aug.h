@@ -36,9 +36,8 @@ typedef struct kt_aug_opts {
     int precond;       /* KT_AUG_PRECOND_* (augmented) */
     int ordering;      /* KT_AUG_ORDER_* for the factor (augmented and refactor) */
     int factor;        /* KT_AUG_FACTOR_*: CHOLMOD supernodal LL^T or simplicial LDL^T */
-    double tol;        /* relative residual ||(K u - f)_free|| / ||f_free|| to stop at: CG tests
-                        * it directly, GMRES through the Schur residual weighted by
-                        * R(Lset,Lset) (the true residual is R(:,Lset) times it) */
+    double tol;        /* GMRES: relative residual of the Schur system (H R^-1 J) a2 = rhs;
+                        * CG: relative residual ||(K u - f)_free|| / ||f_free|| */
     int restart;       /* GMRES restart length */
     int maxit;         /* iteration cap; 0: 2000 for GMRES, 20000 for CG */
     int refactor;      /* KT_AUG_REFACTOR_* policy for the background re-factorization */
@@ -50,7 +49,7 @@ typedef struct kt_aug_opts {
     int quiet;
 } kt_aug_opts;
 
-/* tol 1e-10, restart 200, natural ordering, supernodal, spai, refactor never, verify-tol 1e-8. */
+/* tol 1e-12, restart 200, natural ordering, supernodal, spai, refactor never, verify-tol 1e-8. */
 void kt_aug_opts_default(kt_aug_opts *o);
 
 /* Option words of the tool; 0 on success, -1 for a word not in the list. */

@@ -82,6 +82,7 @@ struct kt_aug {
     int *touch_step;             /* last step the node's stiffness column changed */
     int *origin;                 /* 0-based input node it descends from */
     int *nmark;                  /* node marks (stamped) */
+    int **kids, *kids_n, *kids_cap; /* nodes split off each node (dups), in creation order */
     int nstamp;
 
     /* per DOF, capacity 3*cap_nn */
@@ -93,6 +94,7 @@ struct kt_aug {
     int *cons_step;              /* step it was constrained (0: intact scene), -1 never */
     int *rhs_step;               /* last step fh changed */
     int *Lpos;                   /* index in Lset or -1 */
+    int *par;                    /* DOF this new DOF hangs on (u_j = v_j + u_par), -1: none */
     unsigned char *ind;          /* in dlist */
     unsigned char *outmask;      /* in the output set (NULL: all) */
     double *u, *react, *w, *w2, *uprev;
@@ -110,6 +112,8 @@ struct kt_aug {
     /* DOFs where fh differs from the base's fh0 */
     int nd, dcap;
     int *dlist;
+    int ndpat, dpcap;            /* dlist and the ancestors of its new DOFs: where d != 0 */
+    int *dpat;
     /* CHOLMOD workspaces of the main thread */
     cholmod_dense *Bd, *X, *Y, *E;
     cholmod_sparse *Bset, *Xset;
@@ -159,9 +163,12 @@ int aug_install(kt_aug *A, aug_base *b, kt_err *e);
 int aug_analyze(cholmod_sparse *K, int ordering, int factor, cholmod_common *c,
                 cholmod_factor **L, kt_err *e);
 
-/* aug_solve.c: the three steps */
+/* aug_lset.c: Lset, J, H in the variables u = P v (new DOFs as increments over their parent) */
 int aug_update_lset(kt_aug *A, const int *touched, int nt, const int *newc, int nc, kt_err *e);
 int aug_rebuild_lists(kt_aug *A, kt_err *e);
+double aug_padv(const kt_aug *A, int j);   /* R on the padding */
+int aug_load_d(kt_aug *A, double *w, kt_err *e); /* w += P^T fh - fh0 on A->dpat */
+void aug_unfold(const kt_aug *A, double *u);   /* u = P v in place */
 int aug_solve_augmented(kt_aug *A, kt_err *e);
 double aug_residual(kt_aug *A, kt_err *e);
 void aug_react_from_a2(kt_aug *A);

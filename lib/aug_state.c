@@ -29,6 +29,10 @@ int aug_grow(kt_aug *A, int nn, kt_err *e)
         grow_array(&A->touch_step, o, n, sizeof(int), 0xff, e) ||
         grow_array(&A->origin, o, n, sizeof(int), 0xff, e) ||
         grow_array(&A->nmark, o, n, sizeof(int), 0, e) ||
+        grow_array(&A->kids, o, n, sizeof(int *), 0, e) ||
+        grow_array(&A->kids_n, o, n, sizeof(int), 0, e) ||
+        grow_array(&A->kids_cap, o, n, sizeof(int), 0, e) ||
+        grow_array(&A->par, od, nd, sizeof(int), 0xff, e) ||
         grow_array(&A->cons, od, nd, 1, 0, e) || grow_array(&A->g, od, nd, sizeof(double), 0, e) ||
         grow_array(&A->force, od, nd, sizeof(double), 0, e) ||
         grow_array(&A->f, od, nd, sizeof(double), 0, e) ||
@@ -49,17 +53,23 @@ int aug_grow(kt_aug *A, int nn, kt_err *e)
     return KT_OK;
 }
 
+/* Append x to the list v[node] (count n[node], capacity cap[node]). */
+static int list_add(int **v, int *n, int *cap, int node, int x, kt_err *e)
+{
+    if (n[node] == cap[node]) {
+        int c = cap[node] ? 2 * cap[node] : 8;
+        int *p = kt_realloc(v[node], (size_t)c, sizeof(int), e);
+        if (!p) return e->code;
+        v[node] = p;
+        cap[node] = c;
+    }
+    v[node][n[node]++] = x;
+    return KT_OK;
+}
+
 static int adj_add(kt_aug *A, int node, int tet, kt_err *e)
 {
-    if (A->adj_n[node] == A->adj_cap[node]) {
-        int cap = A->adj_cap[node] ? 2 * A->adj_cap[node] : 8;
-        int *p = kt_realloc(A->adj[node], (size_t)cap, sizeof(int), e);
-        if (!p) return e->code;
-        A->adj[node] = p;
-        A->adj_cap[node] = cap;
-    }
-    A->adj[node][A->adj_n[node]++] = tet;
-    return KT_OK;
+    return list_add(A->adj, A->adj_n, A->adj_cap, node, tet, e);
 }
 
 static void adj_remove(kt_aug *A, int node, int tet)
@@ -149,6 +159,11 @@ int aug_state_init(kt_aug *A, const kt_aug_problem *p, kt_err *e)
 void aug_state_free(kt_aug *A)
 {
     for (int a = 0; a < A->cap_nn; a++) free(A->adj[a]);
+    for (int a = 0; a < A->cap_nn && A->kids; a++) free(A->kids[a]);
+    free(A->kids);
+    free(A->kids_n);
+    free(A->kids_cap);
+    free(A->par);
     free(A->adj);
     free(A->adj_n);
     free(A->adj_cap);
@@ -374,7 +389,12 @@ static int update_adjacency(kt_aug *A, const kt_step *s, int nn_old, kt_err *e)
         const kt_edit *ed = &s->edit[i];
         if (ed->kind != KT_EDIT_DUP) continue;
         A->origin[ed->new_node] = A->origin[ed->node];
-        for (int c = 0; c < 3; c++) A->uprev[3 * ed->new_node + c] = A->uprev[3 * ed->node + c];
+        for (int c = 0; c < 3; c++) {
+            int j = 3 * ed->new_node + c, p = 3 * ed->node + c;
+            A->uprev[j] = A->uprev[p];
+            A->par[j] = A->cons[p] ? -1 : p; /* the split-off side moves relative to its parent */
+        }
+        if (list_add(A->kids, A->kids_n, A->kids_cap, ed->node, ed->new_node, e)) return e->code;
         for (int j = 0; j < ed->nel; j++) {
             adj_remove(A, ed->node, ed->el[j]);
             if (adj_add(A, ed->new_node, ed->el[j], e)) return e->code;
@@ -441,6 +461,15 @@ static int append_int(int **v, int *n, int *cap, int x, kt_err *e)
     return KT_OK;
 }
 
+/* A constrained DOF is its own variable: it hangs on no parent and nothing hangs on it. */
+static void detach(kt_aug *A, int j)
+{
+    int a = j / 3, c = j % 3;
+    A->par[j] = -1;
+    for (int k = 0; k < A->kids_n[a]; k++)
+        if (A->par[3 * A->kids[a][k] + c] == j) A->par[3 * A->kids[a][k] + c] = -1;
+}
+
 /* One fix edit: new constraints are recorded in newc; value changes are lifted into fh. */
 static int apply_fix(kt_aug *A, const kt_edit *ed, int **newc, int *nc, int *ccap, kt_err *e)
 {
@@ -454,6 +483,7 @@ static int apply_fix(kt_aug *A, const kt_edit *ed, int **newc, int *nc, int *cca
             A->cons[j] = 1;
             A->cons_step[j] = A->step;
             append_int(newc, nc, ccap, j, e);
+            detach(A, j);
         }
         A->g[j] = ed->v[c];
         if (dg == 0 || e->code) continue;

@@ -547,7 +547,8 @@ int kt_curv_run(const kt_curv_opts *o, FILE *out, kt_err *e)
     if (rc == KT_OK) kt_progress_start(&pr, "curvature", c->nstep, o->quiet);
     for (int i = 0; rc == KT_OK && i < c->nstep; i++) {
         rc = do_step(c, i, e);
-        kt_progress_update(&pr, i + 1);
+        if (rc == KT_OK) kt_progress_update(&pr, i + 1);
+        else if (pr.tty && !o->quiet) fputc('\n', stderr); /* end the bar before the error line */
     }
     if (rc == KT_OK) {
         kt_progress_end(&pr);

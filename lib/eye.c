@@ -32,6 +32,8 @@ typedef struct eye_build {
     int *vol_region;   /* volume entity tag -> region tag (0: none) */
     int *surf_group;   /* surface entity tag -> surface group tag (0: interface) */
     int nring_piece;   /* ring faces kept after the fragment */
+    int aux[4], naux;  /* construction points (centres) to delete once the solids exist */
+    double h_cornea, h_optical; /* sizes after the two-elements-through-the-thickness cap */
 } eye_build;
 
 static void gm(eye_build *b, int ierr) { if (ierr) b->ierr = 1; }
@@ -97,8 +99,10 @@ static int posterior_curve(eye_build *b, int pv, int pp)
     const kt_eye_geom *g = &b->g;
     double a = g->Rp / g->k, bb = g->Rp / sqrt(g->k), zc = g->z_pv - a;
     int centre = pt_axis(b, zc);
+    b->aux[b->naux++] = centre;
     if (fabs(g->k - 1) < 1e-9) return arc(b, pv, centre, pp);
     int ierr = 0, major = g->k < 1 ? pv : pt(b, (double[2]){bb, zc});
+    if (g->k > 1) b->aux[b->naux++] = major;
     int t = gmshModelOccAddEllipseArc(pv, centre, major, pp, -1, &ierr);
     gm(b, ierr);
     return t;
@@ -111,6 +115,8 @@ static void profile(eye_build *b, int f[3])
     int a0 = pt_axis(b, g->z_apex), ca = pt_axis(b, g->z_ca), o = pt_axis(b, 0);
     int pv = pt_axis(b, g->z_pv), E = pt(b, g->E), Pp = pt(b, g->Pp);
     int Lo = pt(b, g->Lo), Li = pt(b, g->Li), So = pt(b, g->So), Si = pt(b, g->Si);
+    b->aux[b->naux++] = ca;
+    b->aux[b->naux++] = o;
     int c_ant = arc(b, a0, ca, E), c_edge = line(b, E, Pp);
     int c_post = posterior_curve(b, pv, Pp), c_axis = line(b, pv, a0);
     int c_lo = arc(b, E, o, Lo), c_ls = line(b, Lo, Li), c_li = line(b, Li, Pp);
@@ -190,6 +196,11 @@ static int build_model(eye_build *b, kt_err *e)
     int obj[6], tool[2 * KT_SCENE_MAX];
     for (int i = 0; i < 3; i++) obj[2 * i] = 3, obj[2 * i + 1] = revolve(b, 2, f[i]);
     for (int i = 0; i < nr; i++) tool[2 * i] = 2, tool[2 * i + 1] = ring_surface(b, i);
+    for (int i = 0; i < b->naux; i++) {
+        int ierr = 0, dt[2] = {0, b->aux[i]};
+        gmshModelOccRemove(dt, 2, 0, &ierr);
+        gm(b, ierr);
+    }
     if (gm_check(b, "building the eye geometry", e)) return e->code;
     int *out = NULL, **map = NULL, ierr = 0;
     size_t nout = 0, *nmap = NULL, nnmap = 0;
@@ -317,7 +328,7 @@ static int threshold(eye_build *b, int in, double hmin, double hmax, double dmin
 static int graded(eye_build *b, int in, double hmin, double dmin, double len, double hmid,
                   double hmax)
 {
-    if (hmin >= hmid) return threshold(b, in, hmid, hmid, dmin, dmin + len);
+    if (hmin >= hmid) return -1; /* nothing to refine: the base field is finer already */
     return threshold(b, in, hmin, hmax, dmin, dmin + len * (hmax - hmin) / (hmid - hmin));
 }
 
@@ -340,12 +351,12 @@ static int size_fields(eye_build *b, kt_err *e)
     /* Optical zone: radial distance from the axis, switched off below the corneal edge. */
     snprintf(expr, sizeof expr, "sqrt(x*x+y*y) + 100*((%.17g - z) + Fabs(%.17g - z))",
              g->Pp[1], g->Pp[1]);
-    double hmax = fmax(eye->h_sclera, eye->h_cornea);
-    fl[n++] = graded(b, matheval(b, expr), eye->h_optical, 0.5 * eye->optical_zone,
-                     2 * eye->h_cornea, eye->h_cornea, hmax);
+    double hc = b->h_cornea, hmax = fmax(eye->h_sclera, hc);
+    fl[n] = graded(b, matheval(b, expr), b->h_optical, 0.5 * eye->optical_zone, 2 * hc, hc, hmax);
+    n += fl[n] > 0;
     /* Sclera: polar angle about the globe centre, coarsening beyond the limbus. */
-    fl[n++] = threshold(b, matheval(b, "acos(z/sqrt(x*x+y*y+z*z+1e-12))"), eye->h_cornea,
-                        eye->h_sclera, g->alphaL, g->alphaL + 3 * eye->h_sclera / g->Rg);
+    fl[n++] = threshold(b, matheval(b, "acos(z/sqrt(x*x+y*y+z*z+1e-12))"), hc, eye->h_sclera,
+                        g->alphaL, g->alphaL + 3 * eye->h_sclera / g->Rg);
     if (eye->nring > 0) {
         double *tags = kt_calloc((size_t)b->nring_piece, sizeof(double), e);
         if (!tags) return e->code;
@@ -358,11 +369,11 @@ static int size_fields(eye_build *b, kt_err *e)
         free(tags);
         /* Sample the ring faces at about a third of the incision size. */
         fnum(b, d, "NumPointsPerCurve", ceil(3 * 2 * g->rL / eye->h_incision));
-        fl[n++] = graded(b, d, eye->h_incision, 0.5 * eye->h_incision, 2 * eye->h_cornea,
-                         eye->h_cornea, hmax);
+        fl[n] = graded(b, d, eye->h_incision, 0.5 * eye->h_incision, 2 * hc, hc, hmax);
+        n += fl[n] > 0;
     }
     int ierr = 0, mn = field(b, "Min");
-    double list[3] = {fl[0], fl[1], n > 2 ? fl[2] : fl[1]};
+    double list[3] = {fl[0], n > 1 ? fl[1] : fl[0], n > 2 ? fl[2] : fl[0]};
     gmshModelMeshFieldSetNumbers(mn, "FieldsList", list, (size_t)n, &ierr);
     gm(b, ierr);
     gmshModelMeshFieldSetAsBackgroundMesh(mn, &ierr);
@@ -392,7 +403,7 @@ static void set_options(eye_build *b)
     opt(b, "Mesh.MeshSizeExtendFromBoundary", 0);
     opt(b, "Mesh.MeshSizeFromPoints", 0);
     opt(b, "Mesh.MeshSizeFromCurvature", 0);
-    opt(b, "Mesh.MeshSizeMax", fmax(b->eye->h_sclera, b->eye->h_cornea));
+    opt(b, "Mesh.MeshSizeMax", fmax(b->eye->h_sclera, b->h_cornea));
 }
 
 /* ---- extraction into kt_mesh ---------------------------------------------------------- */
@@ -598,6 +609,18 @@ static int mesh_model(eye_build *b, int order, int quiet, kt_err *e)
     return KT_OK;
 }
 
+/* At least two elements through the corneal thickness: a thin shell in bending with a single
+ * tet layer is far too stiff, so cornea and optical-zone sizes are capped at t_central / 2. */
+static void cap_sizes(eye_build *b, int quiet)
+{
+    double cap = 0.5 * b->eye->t_central;
+    b->h_cornea = fmin(b->eye->h_cornea, cap);
+    b->h_optical = fmin(b->eye->h_optical, cap);
+    if (b->h_cornea < b->eye->h_cornea || b->h_optical < b->eye->h_optical)
+        kt_log(quiet, "eye: cornea element size capped at %g mm (half the central thickness) so "
+               "that at least two elements span the cornea\n", cap);
+}
+
 static int validate_rings(eye_build *b, kt_err *e)
 {
     if (b->eye->nring < 0 || b->eye->nring > KT_SCENE_MAX)
@@ -616,6 +639,7 @@ int kt_eye_mesh(const kt_eye *eye, int order, int quiet, kt_mesh *m, kt_err *e)
     if (order != 1 && order != 2)
         return kt_fail(e, KT_EINPUT, "eye: element order %d (expected 1 or 2)", order);
     if (kt_eye_geom_init(eye, &b.g, e) || validate_rings(&b, e)) return e->code;
+    cap_sizes(&b, quiet);
     int ierr = 0, rc;
     gmshInitialize(0, NULL, 0, &ierr);
     if (ierr) return kt_fail(e, KT_ERUN, "eye: gmsh failed to initialise");

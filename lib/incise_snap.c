@@ -21,10 +21,10 @@ static double dist(const double *a, const double *b)
 }
 
 /* Mean-ratio quality of the vertex tet: 1 for a regular tet, 0 flat, negative inverted. */
-static double quality(const kt_mesh *m, const int *tv)
+static double quality(const double *xyz, const int *tv)
 {
     const double *x[4];
-    for (int k = 0; k < 4; k++) x[k] = m->xyz + 3 * (size_t)tv[k];
+    for (int k = 0; k < 4; k++) x[k] = xyz + 3 * (size_t)tv[k];
     double v = kt_tet_volume(x[0], x[1], x[2], x[3]), s = 0;
     for (int k = 0; k < 6; k++) {
         double l = dist(x[EDGE_V[k][0]], x[EDGE_V[k][1]]);
@@ -80,11 +80,7 @@ static int check_snapped(kt_incise *c, const double *old, const unsigned char *m
     for (int t = 0; t < m->ne; t++) {
         const int *tv = m->tet + (size_t)t * c->nv;
         if (!moved[tv[0]] && !moved[tv[1]] && !moved[tv[2]] && !moved[tv[3]]) continue;
-        double qn = quality(m, tv);
-        double *now = m->xyz;
-        m->xyz = (double *)old;
-        double qo = quality(m, tv);
-        m->xyz = now;
+        double qn = quality(m->xyz, tv), qo = quality(old, tv);
         if (qn <= 0)
             return kt_fail(e, KT_ERUN, "snapping nodes onto the %s would invert tet %d; "
                            "lower snap.fraction or use a finer mesh", what, t + 1);

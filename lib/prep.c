@@ -256,32 +256,57 @@ static int append_group(const kt_mesh *m, const kt_group *g, int **v, int *n, kt
     return KT_OK;
 }
 
-int kt_prep_set(const kt_scene *s, const kt_mesh *m, int **nodes, int *count, char *label, kt_err *e)
+/* Grow the sorted set by 'layers' layers of tet neighbours; the result stays sorted. */
+static int grow(const kt_mesh *m, int layers, int **nodes, int *count, kt_err *e)
 {
-    *nodes = NULL;
-    *count = 0;
+    if (layers <= 0) return KT_OK;
+    unsigned char *in = kt_calloc((size_t)m->nn, 1, e), *add = kt_calloc((size_t)m->nn, 1, e);
+    if (!in || !add) {
+        free(in);
+        free(add);
+        return e->code;
+    }
+    int nv = kt_tet_nv(m->order);
+    for (int k = 0; k < *count; k++) in[(*nodes)[k]] = 1;
+    for (int l = 0; l < layers; l++) {
+        for (int t = 0; t < m->ne; t++) {
+            const int *q = m->tet + (size_t)t * nv;
+            int touch = 0;
+            for (int j = 0; j < nv; j++) touch |= in[q[j]];
+            for (int j = 0; j < nv && touch; j++) add[q[j]] = 1;
+        }
+        memcpy(in, add, (size_t)m->nn);
+    }
+    int n = 0;
+    for (int v = 0; v < m->nn; v++) n += in[v];
+    int *v2 = kt_realloc(*nodes, (size_t)n, sizeof(int), e);
+    if (v2) {
+        *nodes = v2;
+        *count = 0;
+        for (int v = 0; v < m->nn; v++)
+            if (in[v]) v2[(*count)++] = v;
+    }
+    free(in);
+    free(add);
+    return e->code;
+}
+
+/* The named surfaces' nodes, sorted and unique. */
+static int surfaces_nodes(const kt_scene *s, const kt_mesh *m, int **nodes, int *count, char *label, kt_err *e)
+{
     if (s->ordering_set[0]) {
         const kt_group *g = kt_mesh_find_group(m, 2, s->ordering_set);
         if (!g)
             return kt_fail(e, KT_EINPUT, "%s: ordering.last: expected surface '%s' in the mesh", s->path,
                            s->ordering_set);
-        snprintf(label, 128, "surface '%s' (ordering.last)", s->ordering_set);
+        snprintf(label, 96, "surface '%s' (ordering.last)", s->ordering_set);
         return kt_mesh_group_nodes(m, g, nodes, count, e);
     }
-    if (s->model != KT_MODEL_EYE || s->eye.nring == 0) {
-        snprintf(label, 128, "all nodes (the scene names no incision surface)");
-        return KT_OK;
-    }
-    int len = snprintf(label, 128, "incision rings");
+    int len = snprintf(label, 96, "incision rings");
     for (int i = 0; i < s->eye.nring; i++) {
         const kt_group *g = kt_mesh_find_group(m, 2, s->eye.ring[i].name);
-        if (!g) {
-            free(*nodes);
-            *nodes = NULL;
-            *count = 0;
-            return kt_fail(e, KT_ERUN, "eye mesh lacks incision surface '%s'", s->eye.ring[i].name);
-        }
-        if (len < 120) len += snprintf(label + len, 128 - len, "%s%s", i ? "," : " ", g->name);
+        if (!g) return kt_fail(e, KT_ERUN, "eye mesh lacks incision surface '%s'", s->eye.ring[i].name);
+        if (len < 80) len += snprintf(label + len, 96 - len, "%s%s", i ? "," : " ", g->name);
         if (append_group(m, g, nodes, count, e)) return e->code;
     }
     qsort(*nodes, (size_t)*count, sizeof(int), cmp_int);
@@ -289,6 +314,29 @@ int kt_prep_set(const kt_scene *s, const kt_mesh *m, int **nodes, int *count, ch
     for (int i = 0; i < *count; i++)
         if (u == 0 || (*nodes)[i] != (*nodes)[u - 1]) (*nodes)[u++] = (*nodes)[i];
     *count = u;
+    return KT_OK;
+}
+
+int kt_prep_set(const kt_scene *s, const kt_mesh *m, int **nodes, int *count, char *label, kt_err *e)
+{
+    *nodes = NULL;
+    *count = 0;
+    if (!s->ordering_set[0] && (s->model != KT_MODEL_EYE || s->eye.nring == 0)) {
+        snprintf(label, 160, "all nodes (the scene names no incision surface)");
+        return KT_OK;
+    }
+    char what[96];
+    if (surfaces_nodes(s, m, nodes, count, what, e) || grow(m, s->ordering_halo, nodes, count, e)) {
+        free(*nodes);
+        *nodes = NULL;
+        *count = 0;
+        return e->code;
+    }
+    if (s->ordering_halo)
+        snprintf(label, 160, "%s and %d layer%s of tet neighbours (ordering.halo)", what,
+                 s->ordering_halo, s->ordering_halo > 1 ? "s" : "");
+    else
+        snprintf(label, 160, "%s", what);
     return KT_OK;
 }
 
@@ -394,6 +442,15 @@ static void print_summary(FILE *f, const kt_mesh *m, const run_info *r)
                 kt_order_name(w->method), w->st.nnz_L, w->st.flops, w->st.height, w->st.closure_mean,
                 w->st.closure_max, w->st.closure_union, w->t_order);
     }
+    const kt_prep_row *best = NULL, *chosen = NULL;
+    for (int i = 0; i < r->nrow; i++) {
+        if (!best || r->row[i].st.flops < best->st.flops) best = &r->row[i];
+        if (r->row[i].method == r->chosen) chosen = &r->row[i];
+    }
+    if (chosen && best && chosen->st.flops > 5 * best->st.flops)
+        fprintf(f, "note         %s costs %.1fx the factor flops and %.1fx the nnz(L) of %s\n",
+                kt_order_name(chosen->method), chosen->st.flops / best->st.flops,
+                chosen->st.nnz_L / best->st.nnz_L, kt_order_name(best->method));
     if (r->nsector) {
         fprintf(f, "sector       the %d set nodes within 30 deg of meridian %g deg and its opposite (a paired\n"
                    "             60-degree LRI there); the set is swept from that meridian (ordering.centre)\n",
@@ -457,7 +514,7 @@ static int run_mesh(const kt_prep_opts *o, const kt_scene *s, run_info *r, kt_me
     kt_prep_quality(m, &r->q);
     unsigned char *fixed = kt_calloc(3 * (size_t)m->nn, 1, e);
     int *set = NULL, *rank = NULL, *sector = NULL, *perm = kt_calloc((size_t)m->nn, sizeof(int), e);
-    char label[128];
+    char label[160];
     if (!fixed || !perm || check_scene_on_mesh(s, m, fixed, e) ||
         kt_prep_set(s, m, &set, &r->nset, label, e) ||
         kt_prep_set_ranks(s, m, set, r->nset, &rank, e) ||

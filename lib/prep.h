@@ -30,8 +30,10 @@ typedef struct kt_quality {
 void kt_prep_quality(const kt_mesh *m, kt_quality *q);
 
 /* The node set the constrained ordering puts last and whose closures are reported: the
- * scene's ordering.last, else the union of the eye's incision rings; none (NULL, 0) when the
- * scene has neither. label (>= 128 bytes) says which. */
+ * scene's ordering.last, else the union of the eye's incision rings, grown by ordering.halo
+ * layers of tet neighbours (one layer: every node whose stiffness column changes when the
+ * surface is cut); none (NULL, 0) when the scene names no surface. label (>= 160 bytes) says
+ * which. */
 int kt_prep_set(const kt_scene *s, const kt_mesh *m, int **nodes, int *count, char *label, kt_err *e);
 
 /* Ranks for kt_order_nodes_ranked: on the eye, a set node's angular distance d (0-90 deg)

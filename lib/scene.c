@@ -55,6 +55,7 @@ static void scene_defaults(kt_scene *s)
     s->box.fixed_face = 4; /* zmin */
     s->cgal.unit = 1.0;
     s->ordering_centre = NAN;
+    s->ordering_halo = 1; /* the nodes whose stiffness columns change when the set is cut */
 }
 
 /* Directory part of a path ("." when there is none). */
@@ -324,7 +325,7 @@ static int parse_cgal(kt_yml *y, const yaml_node_t *n, const char *what, const c
 
 /* ---- ordering, materials, loads, fixation ------------------------------------------------ */
 
-static const char *const ORDERING_KEYS[] = {"method", "last", "centre", NULL};
+static const char *const ORDERING_KEYS[] = {"method", "last", "halo", "centre", NULL};
 
 static int parse_ordering(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *e)
 {
@@ -332,6 +333,7 @@ static int parse_ordering(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *
     int m = s->ordering - 1;
     if (kt_yml_key_choice(y, n, "ordering", "method", ORDERINGS, &m, e)) return e->code;
     s->ordering = m + 1;
+    if (kt_yml_key_int(y, n, "ordering", "halo", 0, 3, &s->ordering_halo, e)) return e->code;
     yaml_node_t *centre = kt_yml_get(y, n, "centre");
     if (centre && s->model != KT_MODEL_EYE)
         return kt_yml_fail(y, centre, e, "ordering.centre: expected only on the eye model");

@@ -77,6 +77,7 @@ typedef struct kt_scene {
     int order;                  /* element order, 1 or 2 */
     int ordering;               /* KT_ORDERING_* */
     char ordering_set[KT_NAME_MAX]; /* surface group put last by the constrained ordering */
+    int ordering_halo;          /* layers of tet neighbours added to that set (default 1) */
     double ordering_centre;     /* eye: the set's nodes nearest this meridian (deg, and the
                                    opposite one) are ordered last of all; NAN: no sweep */
     kt_eye eye;

@@ -84,6 +84,25 @@ static int parse_error(kt_yml *y, const yaml_parser_t *p, kt_err *e)
                    (int)p->problem_mark.line + 1, (int)p->problem_mark.column + 1, problem, ctx);
 }
 
+/* A scene or plan is one document: a second one is refused rather than ignored. */
+static int single_document(kt_yml *y, yaml_parser_t *p, kt_err *e)
+{
+    yaml_document_t next;
+    if (!yaml_parser_load(p, &next)) {
+        parse_error(y, p, e);
+        yaml_document_delete(&y->doc);
+        return 0;
+    }
+    yaml_node_t *root = yaml_document_get_root_node(&next);
+    if (root)
+        kt_fail(e, KT_EINPUT, "%s:%d:%d: expected a single YAML document, found a second one",
+                file_name(y), (int)next.start_mark.line + 1, (int)next.start_mark.column + 1);
+    yaml_document_delete(&next);
+    if (!root) return 1;
+    yaml_document_delete(&y->doc);
+    return 0;
+}
+
 int kt_yml_load(kt_yml *y, const char *path, kt_err *e)
 {
     memset(y, 0, sizeof *y);
@@ -100,6 +119,7 @@ int kt_yml_load(kt_yml *y, const char *path, kt_err *e)
     yaml_parser_set_input_file(&p, f);
     int ok = yaml_parser_load(&p, &y->doc);
     if (!ok) parse_error(y, &p, e);
+    if (ok && yaml_document_get_root_node(&y->doc)) ok = single_document(y, &p, e);
     yaml_parser_delete(&p);
     if (f != stdin) fclose(f);
     if (!ok) return e->code;

@@ -165,8 +165,7 @@ int main(void)
     kt_aug_opts o;
     kt_aug_opts_default(&o);
     o.quiet = 1;
-    o.tol = 1e-11;
-    o.precond = KT_AUG_PRECOND_SPAI;
+    o.tol = 3e-14;
     run_case("beam cuts", &beam, &o, CUTS, 14, 1e-10, 0);
     run_case("beam fixes", &beam, &o, FIXES, 12, 1e-10, 0);
     run_case("beam both", &beam, &o, BOTH, 24, 1e-10, 0);

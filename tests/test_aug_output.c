@@ -26,7 +26,7 @@ static void test_restricted(scenario *s)
     kt_aug_opts o;
     kt_aug_opts_default(&o);
     o.quiet = 1;
-    o.tol = 1e-11;
+    o.tol = 1e-13;
     kt_aug_opts r = o;
     strcpy(r.output, "ymax");
     kt_aug *A = NULL, *B = NULL;

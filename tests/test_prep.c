@@ -113,7 +113,7 @@ static void test_box_build(const char *dir)
     char path[128];
     snprintf(path, sizeof path, "%s/b.yaml", dir);
     write_file(path, "model: box\norder: 2\nbox: {nodes: [3, 3, 5], size: [1 mm, 1 mm, 2 mm], fixed: xmax}\n"
-                     "ordering: {last: zmin}\nmaterials: {body: {E: 1 MPa, nu: 0.3}}\n");
+                     "ordering: {last: zmin, halo: 0}\nmaterials: {body: {E: 1 MPa, nu: 0.3}}\n");
     kt_scene s;
     kt_err e = {0};
     CHECK(kt_scene_load(path, &s, &e) == 0, "%s", e.msg);
@@ -153,9 +153,17 @@ static void test_box_build(const char *dir)
     CHECK(bad == 0 && cnt > 0, "fixed nodes are those at x = 1 (%d wrong of %d)", bad, cnt);
     free(fx);
     int *set = NULL, nset = 0;
-    char label[128];
+    char label[160];
     CHECK(kt_prep_set(&s, &m, &set, &nset, label, &e) == 0 && nset == 25, "zmin set %d nodes (P2: 5x5)", nset);
     CHECK(strstr(label, "zmin") != NULL, "label %s", label);
+    free(set);
+    /* One halo layer: the nodes of the tets touching zmin, i.e. every node with z <= 0.5. */
+    s.ordering_halo = 1;
+    CHECK(kt_prep_set(&s, &m, &set, &nset, label, &e) == 0, "%s", e.msg);
+    int low = 0, inlow = 0;
+    for (int i = 0; i < m.nn; i++) low += m.xyz[3 * i + 2] <= 0.5 + 1e-12;
+    for (int k = 0; k < nset; k++) inlow += m.xyz[3 * set[k] + 2] <= 0.5 + 1e-12;
+    CHECK(nset == low && inlow == nset, "halo set %d nodes, %d with z <= 0.5", nset, low);
     free(set);
     kt_mesh_free(&m);
 }

@@ -130,6 +130,7 @@ static void test_bad_scenes(void)
 {
     reject("malformed", "model: eye\neye:\n  extent: [90 deg\n", 4, 1, "expected well-formed YAML");
     reject("colon", "name: a: b\n", 1, 8, "expected well-formed YAML");
+    reject("two-docs", "model: eye\n---\nmodel: box\n", 2, 1, "expected a single YAML document");
     reject("empty", "", 1, 1, "expected a YAML mapping");
     reject("toplist", "- eye\n", 1, 1, "expected a mapping");
     reject("unknown-top", "model: eye\nmodle: box\n", 2, 1, "unknown key 'modle'");
@@ -171,6 +172,7 @@ static void test_bad_scenes(void)
     reject("centre-box", "model: box\nbox: {nodes: [2, 2, 2]}\nordering: {centre: 0 deg}\n", 3, 20,
            "ordering.centre: expected only on the eye model");
     reject("centre-range", "ordering: {centre: 360 deg}\n", 1, 20, "expected an angle in [0, 360) deg");
+    reject("halo", "ordering: {halo: 4}\n", 1, 18, "ordering.halo: expected an integer in [0, 3]");
     reject("below-eye", "fixation:\n  - below: {axis: y, value: 0 mm}\n", 2, 12, "expected only on box");
     reject("extent", "eye:\n  extent: 20 deg\n", 2, 11, "eye.extent: expected more than the polar angle");
 }

@@ -1,0 +1,173 @@
+/* bench_steps: run an edits stream with one of augsolve's methods through the library calls
+ * augsolve makes (kt_aug_create / kt_aug_step), writing the steps.tsv columns plus what the
+ * benchmark needs and the tool does not print:
+ *   - status per step: ok, or fail (the step's solve missed its tolerance) and the run goes on
+ *     (--keep-going; augsolve rightly stops at the first failure, but the paper's CG curves
+ *     show the steps after one that failed);
+ *   - t_factor_ms: the time of the factorization in use (augmented), and the wall budget
+ *     (--budget SECONDS): steps after it is spent are not run (status "budget").
+ *
+ *   bench_steps MESH EDITS [--scene S] [--method M] [--tol T] [--maxit N] [--precond P]
+ *               [--restart N] [--refactor POLICY] [--refactor-sync] [--verify] [--keep-going]
+ *               [--budget S] [--max-steps N] [--tag NAME]
+ * stdout: TSV with a header line. Exit 1 if a step failed (even with --keep-going). */
+#define _POSIX_C_SOURCE 200809L
+#include "aug.h"
+#include "bench.h"
+
+typedef struct opts {
+    const char *mesh, *edits, *scene, *tag;
+    kt_aug_opts aug;
+    int keep_going, max_steps;
+    double budget;
+} opts;
+
+static int parse(int argc, char **argv, opts *o)
+{
+    memset(o, 0, sizeof *o);
+    kt_aug_opts_default(&o->aug);
+    o->aug.quiet = 1;
+    o->aug.verify_tol = 1e300; /* record the difference; the suite judges it */
+    o->tag = "-";
+    o->budget = INFINITY;
+    o->max_steps = 1 << 30;
+    int pos = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : "";
+        int bad = 0, arg = 1;
+        if (!strcmp(a, "--scene")) o->scene = v;
+        else if (!strcmp(a, "--tag")) o->tag = v;
+        else if (!strcmp(a, "--method")) bad = kt_aug_parse_method(v, &o->aug.method);
+        else if (!strcmp(a, "--precond")) bad = kt_aug_parse_precond(v, &o->aug.precond);
+        else if (!strcmp(a, "--refactor"))
+            bad = kt_aug_parse_refactor(v, &o->aug.refactor, &o->aug.refactor_n);
+        else if (!strcmp(a, "--tol")) bad = kt_parse_double(v, &o->aug.tol);
+        else if (!strcmp(a, "--maxit")) bad = kt_parse_int(v, &o->aug.maxit);
+        else if (!strcmp(a, "--restart")) bad = kt_parse_int(v, &o->aug.restart);
+        else if (!strcmp(a, "--budget")) bad = kt_parse_double(v, &o->budget);
+        else if (!strcmp(a, "--max-steps")) bad = kt_parse_int(v, &o->max_steps);
+        else {
+            arg = 0;
+            if (!strcmp(a, "--verify")) o->aug.verify = 1;
+            else if (!strcmp(a, "--refactor-sync")) o->aug.refactor_sync = 1;
+            else if (!strcmp(a, "--keep-going")) o->keep_going = 1;
+            else if (a[0] != '-' && pos == 0) o->mesh = a, pos++;
+            else if (a[0] != '-' && pos == 1) o->edits = a, pos++;
+            else bad = 1;
+        }
+        if (bad || (arg && i + 1 >= argc)) return -1;
+        i += arg;
+    }
+    return o->mesh && o->edits ? 0 : -1;
+}
+
+/* Pressures and fixation surfaces of the scene, by mesh group tag (as augsolve sets them). */
+static int problem(const bench_problem *p, kt_aug_pressure *press, kt_aug_fixsurf *fix,
+                   kt_aug_problem *ap, kt_err *e)
+{
+    for (int k = 0; k < p->scene.npressure; k++) {
+        const kt_group *g = kt_mesh_find_group(&p->mesh, 2, p->scene.pressure[k].surface);
+        if (!g) return kt_fail(e, KT_EINPUT, "no pressure surface '%s'", p->scene.pressure[k].surface);
+        press[k] = (kt_aug_pressure){g->tag, p->scene.pressure[k].p};
+    }
+    int nfix = 0;
+    for (int k = 0; k < p->scene.nfix; k++) {
+        const kt_group *g = kt_mesh_find_group(&p->mesh, 2, p->scene.fix[k].surface);
+        if (!g) continue;
+        fix[nfix] = (kt_aug_fixsurf){g->tag, p->scene.fix[k].mask, {0, 0, 0}};
+        memcpy(fix[nfix++].v, p->scene.fix[k].value, sizeof fix[0].v);
+    }
+    *ap = (kt_aug_problem){&p->mesh, &p->mats, p->fixed, p->g, p->scene.npressure, press, nfix, fix};
+    return KT_OK;
+}
+
+static void num(double v, const char *fmt)
+{
+    if (isnan(v)) fputs("\tNaN", stdout);
+    else printf(fmt, v);
+}
+
+static void row(const opts *o, const kt_aug *A, const char *status, const kt_aug_row *w)
+{
+    double nnz, tf;
+    kt_aug_factor_info(A, &nnz, &tf);
+    /* a failed step never reached the total: add up what it measured */
+    double tot = w->t_total;
+    if (strcmp(status, "ok"))
+        tot = w->t_update + (isnan(w->t_step1) ? 0 : w->t_step1) + w->t_step2 +
+              (isnan(w->t_step3) ? 0 : w->t_step3);
+    int ndofs = strcmp(status, "ok") ? 3 * kt_aug_mesh(A)->nn : w->n_dofs;
+    printf("%s\t%s\t%d\t%d\t%d\t%d\t%d\t%d", o->tag, kt_aug_method_name(o->aug.method), w->step,
+           ndofs, w->m, w->new_dofs, w->iters, w->closure_max);
+    num(w->t_update, "\t%.4f");
+    num(w->t_step1, "\t%.4f");
+    num(w->t_step2, "\t%.4f");
+    num(w->t_step3, "\t%.4f");
+    num(tot, "\t%.4f");
+    num(w->rel_residual, "\t%.3e");
+    printf("\t%s", w->refactor);
+    num(w->verify_rel_diff, "\t%.3e");
+    printf("\t%.0f\t%.3f\t%s\n", nnz, 1e3 * tf, status);
+    fflush(stdout);
+}
+
+int main(int argc, char **argv)
+{
+    opts o;
+    if (parse(argc, argv, &o)) {
+        fprintf(stderr, "usage: bench_steps MESH EDITS [--scene S] [--method M] [--tol T] "
+                        "[--maxit N] [--precond P] [--restart N] [--refactor POLICY] "
+                        "[--refactor-sync] [--verify] [--keep-going] [--budget S] "
+                        "[--max-steps N] [--tag NAME]\n");
+        return 2;
+    }
+    kt_err e = {0};
+    bench_problem p;
+    memset(&p, 0, sizeof p);
+    kt_edits_reader rd;
+    kt_step st = {0};
+    kt_aug *A = NULL;
+    kt_aug_pressure press[KT_SCENE_MAX];
+    kt_aug_fixsurf fix[KT_SCENE_MAX];
+    kt_aug_problem ap;
+    int failed = 0;
+    FILE *f = fopen(o.edits, "r");
+    if (!f) {
+        fprintf(stderr, "bench_steps: cannot open %s\n", o.edits);
+        return 2;
+    }
+    if (kt_edits_open(&rd, f, o.edits, &e)) goto done;
+    if (bench_problem_load(&p, o.mesh, o.scene ? o.scene : rd.h.scene, &e) ||
+        problem(&p, press, fix, &ap, &e))
+        goto done;
+    printf("tag\tmethod\tstep\tn_dofs\tm\tnew_dofs\titers\tclosure_max\tt_update_ms\tt_step1_ms\t"
+           "t_step2_ms\tt_step3_ms\tt_total_ms\trel_residual\trefactor\tverify_rel_diff\tnnz_L\t"
+           "t_factor_ms\tstatus\n");
+    double t0 = kt_now();
+    if (kt_aug_create(&A, &ap, &o.aug, &e)) goto done;
+    row(&o, A, "ok", kt_aug_last(A));
+    int rc;
+    while ((rc = kt_edits_next(&rd, &st, &e)) == 1 && st.index <= o.max_steps) {
+        if (kt_now() - t0 > o.budget) {
+            printf("%s\t%s\t%d\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\t-\tNaN\tNaN"
+                   "\tNaN\tbudget\n", o.tag, kt_aug_method_name(o.aug.method), st.index);
+            continue;
+        }
+        if (kt_aug_step(A, &st, &e) == KT_OK) {
+            row(&o, A, "ok", kt_aug_last(A));
+            continue;
+        }
+        failed = 1;
+        fprintf(stderr, "bench_steps: %s\n", e.msg);
+        row(&o, A, "fail", kt_aug_last(A));
+        if (!o.keep_going || e.code != KT_ERUN) goto done;
+        e = (kt_err){0};
+    }
+done:
+    if (e.code) fprintf(stderr, "bench_steps: %s\n", e.msg);
+    kt_aug_free(A);
+    kt_step_free(&st);
+    fclose(f);
+    bench_problem_free(&p);
+    return e.code ? e.code : failed;
+}
