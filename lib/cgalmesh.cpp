@@ -40,17 +40,22 @@ typedef CGAL::Surface_mesh<K::Point_3> Surface;
 typedef CGAL::Polyhedral_mesh_domain_3<Surface, K> Poly_domain;
 typedef CGAL::Labeled_mesh_domain_3<K> Image_domain;
 
-/* Both domains use the same triangulation type (sequential, so results are reproducible). */
-typedef CGAL::Mesh_triangulation_3<Poly_domain, CGAL::Default, CGAL::Sequential_tag>::type Poly_tr;
+/* Sequential meshing: the parallel mesher's output depends on thread timing. */
+typedef CGAL::Sequential_tag Seq;
+typedef CGAL::Mesh_triangulation_3<Poly_domain, CGAL::Default, Seq>::type Poly_tr;
 typedef CGAL::Mesh_complex_3_in_triangulation_3<Poly_tr> Poly_c3t3;
-typedef CGAL::Mesh_triangulation_3<Image_domain, CGAL::Default, CGAL::Sequential_tag>::type Image_tr;
+typedef CGAL::Mesh_triangulation_3<Image_domain, CGAL::Default, Seq>::type Image_tr;
 typedef CGAL::Mesh_complex_3_in_triangulation_3<Image_tr> Image_c3t3;
 
 /* Seed of CGAL's default generator: any fixed value makes runs repeatable. */
 const unsigned KT_CGAL_SEED = 20240607u;
 
-int check_sizes(const char *path, double fs, double fd, double cs, kt_err *e)
+/* Checked before CGAL's readers, which only print "File doesn't exist." on stderr. */
+int check_input(const char *path, double fs, double fd, double cs, kt_err *e)
 {
+    std::FILE *f = std::fopen(path, "rb");
+    if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", path, std::strerror(errno));
+    std::fclose(f);
     if (!(fs > 0 && std::isfinite(fs)) || !(fd > 0 && std::isfinite(fd)) ||
         !(cs > 0 && std::isfinite(cs)))
         return kt_fail(e, KT_EINPUT,
@@ -242,9 +247,6 @@ int mesh_surface(const char *path, double fs, double fd, double cs, kt_mesh *m, 
 
 int mesh_image(const char *path, double fs, double fd, double cs, kt_mesh *m, kt_err *e)
 {
-    std::FILE *f = std::fopen(path, "rb");
-    if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", path, std::strerror(errno));
-    std::fclose(f);
     CGAL::Image_3 image;
     if (!image.read(path))
         return kt_fail(e, KT_EINPUT, "%s: cannot read a 3D image (INR, optionally gzipped)",
@@ -277,7 +279,7 @@ extern "C" int kt_cgal_mesh_surface(const char *path, double facet_size, double 
                                     double cell_size, kt_mesh *m, kt_err *e)
 {
     std::memset(m, 0, sizeof *m);
-    if (check_sizes(path, facet_size, facet_distance, cell_size, e)) return e->code;
+    if (check_input(path, facet_size, facet_distance, cell_size, e)) return e->code;
     return guarded(path, e, [&] {
         return mesh_surface(path, facet_size, facet_distance, cell_size, m, e);
     });
@@ -287,7 +289,7 @@ extern "C" int kt_cgal_mesh_image(const char *path, double facet_size, double fa
                                   double cell_size, kt_mesh *m, kt_err *e)
 {
     std::memset(m, 0, sizeof *m);
-    if (check_sizes(path, facet_size, facet_distance, cell_size, e)) return e->code;
+    if (check_input(path, facet_size, facet_distance, cell_size, e)) return e->code;
     return guarded(path, e, [&] {
         return mesh_image(path, facet_size, facet_distance, cell_size, m, e);
     });

@@ -432,7 +432,7 @@ static void print_summary(FILE *f, const kt_mesh *m, const run_info *r)
     fprintf(f, "quality      dihedral angle min %.2f deg, max %.2f deg; radius ratio 3r_in/r_circ min %.3f (tet %d), mean %.3f\n",
             r->q.dihedral_min, r->q.dihedral_max, r->q.ratio_min, r->q.worst + 1, r->q.ratio_mean);
     fprintf(f, "dofs         %d, of which %d fixed (identity rows in the analysis)\n", 3 * m->nn, r->nfixed);
-    fprintf(f, "closure set  %s: %d nodes\n", r->set_label, r->nset);
+    fprintf(f, "closure set  %s: %d nodes\n", r->set_label, r->nrow ? r->row[0].st.nset : r->nset);
     fprintf(f, "orderings    (closures in DOFs: elimination-tree paths from a node's DOFs to the root)\n");
     fprintf(f, "  %-12s %12s %12s %8s %13s %12s %12s %9s\n", "method", "nnz(L)", "flops", "height",
             "closure mean", "closure max", "|closure(S)|", "order s");

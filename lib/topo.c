@@ -241,6 +241,8 @@ static void draw_legend(kt_topo_image *img, const kt_topo_scale *s, const kt_top
 int kt_topo_render(const kt_topo_scale *s, const kt_topo_map *m, kt_topo_power_fn power,
                    const void *ctx, kt_topo_image *img, kt_err *e)
 {
+    memset(img, 0, sizeof *img);
+    if (s->n < 1) return kt_fail(e, KT_EINPUT, "axial map: empty colour scale");
     kt_topo_layout L;
     kt_topo_layout_of(s, &L);
     img->w = L.w, img->h = L.h;

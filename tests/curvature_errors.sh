@@ -3,7 +3,8 @@
 # on stderr naming the culprit, and leave no output (no table, map, surface or temporary folder)
 # in the run folder or the -o folder. Inputs are synthetic run folders from test_curv --make-run.
 set -euo pipefail
-B=$1
+B=$(cd "$1" && pwd)
+cd "$(dirname "$0")/.."
 tmp=$(mktemp -d /tmp/kt_curverr_XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 fails=0

@@ -8,7 +8,8 @@
 # analytic displacement, elevation against an independently fitted sphere and axial power against
 # the analytic torus; the PNGs are PNGs of the documented size; --mesh mode gives the same table.
 set -euo pipefail
-B=$1
+B=$(cd "$1" && pwd)
+cd "$(dirname "$0")/.."
 PY=/usr/bin/python3
 tmp=$(mktemp -d /tmp/kt_curvpipe_XXXXXX)
 trap 'rm -rf "$tmp"' EXIT

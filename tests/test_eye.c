@@ -13,6 +13,8 @@
 /* gmsh 4.8 leaks a few surface-meshing buffers per run (inside libgmsh, not ours). */
 const char *__lsan_default_suppressions(void);
 const char *__lsan_default_suppressions(void) { return "leak:libgmsh.so\n"; }
+const char *__lsan_default_options(void);
+const char *__lsan_default_options(void) { return "print_suppressions=0"; }
 
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
