@@ -13,7 +13,7 @@ static const char *USAGE =
     "  -o RUN_DIR            the run folder (created if needed; required)\n"
     "  --scene PATH          scene YAML (default: the one the edits header names)\n"
     "  --method M            augmented (default), refactor, cg, pcg-jacobi\n"
-    "  --tol T               relative residual to stop at (default 1e-12): of the Schur system\n"
+    "  --tol T               relative residual to stop at (default 1e-10): of the Schur system\n"
     "                        for GMRES, of K u = f for CG (steps.tsv reports the latter)\n"
     "  --restart N           GMRES restart length (default 200)\n"
     "  --maxit N             iteration cap (default 2000 GMRES, 20000 CG)\n"

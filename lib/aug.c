@@ -13,7 +13,7 @@ void kt_aug_opts_default(kt_aug_opts *o)
     o->precond = KT_AUG_PRECOND_SPAI;
     o->ordering = KT_AUG_ORDER_NATURAL;
     o->factor = KT_AUG_FACTOR_SUPERNODAL;
-    o->tol = 1e-12;
+    o->tol = 1e-10;
     o->restart = 200;
     o->maxit = 0;
     o->refactor = KT_AUG_REFACTOR_NEVER;

@@ -49,7 +49,7 @@ typedef struct kt_aug_opts {
     int quiet;
 } kt_aug_opts;
 
-/* tol 1e-12, restart 200, natural ordering, supernodal, spai, refactor never, verify-tol 1e-8. */
+/* tol 1e-10, restart 200, natural ordering, supernodal, spai, refactor never, verify-tol 1e-8. */
 void kt_aug_opts_default(kt_aug_opts *o);
 
 /* Option words of the tool; 0 on success, -1 for a word not in the list. */

@@ -43,6 +43,7 @@ static int lset_add(kt_aug *A, int dof, kt_err *e)
     A->Lpos[dof] = A->m;
     A->Ldof[A->m] = dof;
     A->J[A->m].n = 0;
+    A->a2[A->m] = 0; /* the others keep last step's values: GMRES starts from them */
     A->m++;
     return KT_OK;
 }

@@ -190,7 +190,6 @@ static int gmres_step(kt_aug *A, kt_err *e)
     if (A->o.precond != KT_AUG_PRECOND_NONE && klu_setup(A, &P, e)) return e->code;
     kt_krylov_opts ko = {A->o.tol, A->o.restart, A->o.maxit > 0 ? A->o.maxit : 2000};
     kt_krylov_stats st;
-    memset(A->a2, 0, sizeof(double) * A->m);
     kt_krylov_gmres(A->m, schur_op, A, P.num ? klu_apply : NULL, &P, A->rhs, A->a2, &ko, &st, e);
     klu_pre_free(&P);
     A->row.iters = st.iters;

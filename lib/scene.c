@@ -14,7 +14,7 @@ static const char *const TOP_KEYS[] = {"name", "description", "model", "order", 
                                        "box", "surface", "image", "materials", "loads",
                                        "fixation", NULL};
 static const char *const MODELS[] = {"eye", "box", "surface", "image", NULL};
-static const char *const ORDERINGS[] = {"amd", "metis", "constrained", "natural", NULL};
+static const char *const ORDERINGS[] = {"amd", "metis", "constrained", "natural", "metis-last", NULL};
 static const char *const FACES[] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax", "none", NULL};
 static const char *const AXES[] = {"x", "y", "z", NULL};
 

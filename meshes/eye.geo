@@ -46,8 +46,8 @@ k = (2 * r_post * sp - PpX^2) / sp^2;      // 1 + Q of the posterior ellipse thr
 ea = r_post / k;  eb = r_post / Sqrt(k);  zEc = zPv - ea;
 aL = Asin(rL / Rg);  aX = extent * Pi / 180;
 // both interfaces of the limbus: the corneal normal at E and the globe radius at aL
-hc = h_cor;  If (t_c / 2 < hc) hc = t_c / 2; EndIf   // two elements through the cornea
-ho = h_opt;  If (t_c / 2 < ho) ho = t_c / 2; EndIf
+hc = h_cor;  If (t_c / 2.5 < hc) hc = t_c / 2.5; EndIf   // >= 2 elements through the cornea
+ho = h_opt;  If (t_c / 2.5 < ho) ho = t_c / 2.5; EndIf
 
 // ---- profile in the x-z half-plane (x = distance from the axis) ------------------------
 Point(1) = {0, 0, zA};                     // apex
@@ -134,9 +134,13 @@ Physical Surface("incision-ring-1", 11) = {ring[]};
 hmax = h_scl;  If (hc > hmax) hmax = hc; EndIf
 Field[1] = MathEval;   // distance from the axis, switched off below the corneal edge
 Field[1].F = Sprintf("sqrt(x*x+y*y) + 100*((%.17g - z) + Fabs(%.17g - z))", PpZ, PpZ);
-Field[2] = Threshold;
-Field[2].InField = 1;  Field[2].SizeMin = ho;  Field[2].SizeMax = hmax;
-Field[2].DistMin = oz / 2;  Field[2].DistMax = oz / 2 + 2 * hc * (hmax - ho) / (hc - ho);
+If (ho < hc)           // grade from ho to hc over 2 hc, then on to hmax
+  Field[2] = Threshold;
+  Field[2].InField = 1;  Field[2].SizeMin = ho;  Field[2].SizeMax = hmax;
+  Field[2].DistMin = oz / 2;  Field[2].DistMax = oz / 2 + 2 * hc * (hmax - ho) / (hc - ho);
+Else                   // nothing to refine (ho capped to hc)
+  Field[2] = MathEval;  Field[2].F = Sprintf("%.17g", hmax);
+EndIf
 Field[3] = MathEval;   // polar angle about the globe centre
 Field[3].F = "acos(z/sqrt(x*x+y*y+z*z+1e-12))";
 Field[4] = Threshold;
@@ -145,9 +149,13 @@ Field[4].DistMin = aL;  Field[4].DistMax = aL + 3 * h_scl / Rg;
 Field[5] = Distance;   // the ring faces, sampled at about a fifth of h_inc
 Field[5].SurfacesList = {ring[]};
 Field[5].NumPointsPerCurve = Ceil(6 * rL / h_inc);
-Field[6] = Threshold;
-Field[6].InField = 5;  Field[6].SizeMin = h_inc;  Field[6].SizeMax = hmax;
-Field[6].DistMin = h_inc / 2;  Field[6].DistMax = h_inc / 2 + 2 * hc * (hmax - h_inc) / (hc - h_inc);
+If (h_inc < hc)
+  Field[6] = Threshold;
+  Field[6].InField = 5;  Field[6].SizeMin = h_inc;  Field[6].SizeMax = hmax;
+  Field[6].DistMin = h_inc / 2;  Field[6].DistMax = h_inc / 2 + 2 * hc * (hmax - h_inc) / (hc - h_inc);
+Else
+  Field[6] = MathEval;  Field[6].F = Sprintf("%.17g", hmax);
+EndIf
 Field[7] = Min;
 Field[7].FieldsList = {2, 4, 6};
 Background Field = 7;

@@ -507,6 +507,24 @@ static void check_geo_script(const kt_mesh *m, const kt_eye *eye)
     }
 }
 
+/* At least two elements through the corneal thickness: no cornea tet has a vertex on the
+ * anterior surface and another on the inner one. */
+static int tets_spanning_cornea(const kt_mesh *m)
+{
+    char *on = calloc((size_t)m->nn, 1);
+    int fv = kt_tri_nv(m->order), tv = kt_tet_nv(m->order), n = 0;
+    for (int i = 0; i < m->nf; i++)
+        if (m->tri_tag[i] == 1 || m->tri_tag[i] == 2)
+            for (int j = 0; j < fv; j++) on[m->tri[(size_t)i * fv + j]] |= m->tri_tag[i];
+    for (int t = 0; t < m->ne; t++) {
+        int mask = 0;
+        for (int j = 0; j < 4 && m->tet_tag[t] == 1; j++) mask |= on[m->tet[(size_t)t * tv + j]];
+        n += mask == 3;
+    }
+    free(on);
+    return n;
+}
+
 static void check_p1(const kt_eye *eye)
 {
     kt_mesh m;
@@ -540,6 +558,8 @@ static void check_p1(const kt_eye *eye)
     CHECK(fabs(te - eye->t_peripheral) < 1e-9, "thickness at the limbus %.6f vs %.6f mm", te,
           eye->t_peripheral);
     double o[3] = {0, 0, kt_eye_anterior_z(eye, 0, 0)}, d[3] = {0, 0, -1};
+    int spanning = tets_spanning_cornea(&m);
+    CHECK(spanning == 0, "%d cornea tets reach from the anterior to the inner surface", spanning);
     int layers = tets_crossed(&m, o, d, tc);
     CHECK(layers >= 2, "%d tets through the apex thickness", layers);
     printf("P1 eye: apex thickness %.4f mm, %d tets crossed; thickness at r = 3: %.4f mm "
