@@ -289,8 +289,8 @@ static int step3(kt_aug *A, kt_err *e)
     int np = A->ndpat + A->njpat;
     int *pat = kt_calloc((size_t)np + 1, sizeof(int), e);
     if (!pat) return e->code;
-    memcpy(pat, A->dpat, sizeof(int) * A->ndpat);
-    memcpy(pat + A->ndpat, A->Jpat, sizeof(int) * A->njpat);
+    if (A->ndpat) memcpy(pat, A->dpat, sizeof(int) * A->ndpat);
+    if (A->njpat) memcpy(pat + A->ndpat, A->Jpat, sizeof(int) * A->njpat);
     if (A->outmask) {
         restricted(A, pat, np, e);
     } else if (back_full(A, pat, np, A->u, e) == KT_OK) {
@@ -380,6 +380,7 @@ void aug_solve_free(kt_aug *A)
     free(A->rhs);
     free(A->Jpat);
     free(A->dlist);
+    free(A->dpat);
     cholmod_free_dense(&A->Bd, &A->c);
     cholmod_free_dense(&A->X, &A->c);
     cholmod_free_dense(&A->Y, &A->c);

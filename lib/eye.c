@@ -367,7 +367,7 @@ static int size_fields(eye_build *b, kt_err *e)
         gmshModelMeshFieldSetNumbers(d, "SurfacesList", tags, (size_t)k, &ierr);
         gm(b, ierr);
         free(tags);
-        /* Sample the ring faces at about a third of the incision size. */
+        /* Sample the ring faces (spacing = bounding-box diagonal / N) at about h_incision / 5. */
         fnum(b, d, "NumPointsPerCurve", ceil(3 * 2 * g->rL / eye->h_incision));
         fl[n] = graded(b, d, eye->h_incision, 0.5 * eye->h_incision, 2 * hc, hc, hmax);
         n += fl[n] > 0;

@@ -1,6 +1,7 @@
 /* test_eye.c: the parametric eye meshed with gmsh: groups, conforming incision rings (P1 and
  * P2), the exact toric anterior surface and its meridian curvatures, corneal thickness, valid
- * (also curved P2) elements, and rejection of inconsistent rings. */
+ * (also curved P2) elements, two elements through the cornea, meshes/eye.geo consistency and
+ * rejection of inconsistent rings. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,7 +40,7 @@ static void coarse_eye(kt_eye *e)
     e->optical_zone = 6;
     e->h_optical = 0.3;
     e->h_incision = 0.25;
-    e->h_cornea = 0.4; /* capped at t_central / 2 by the mesher */
+    e->h_cornea = 0.4; /* capped at t_central / 2.5 by the mesher */
     e->h_sclera = 1.5;
     e->nring = 2;
     strcpy(e->ring[0].name, "incision-ring-1");
@@ -131,8 +132,7 @@ static int ring_conformity(const kt_mesh *m, int *nring_tri)
     return bad;
 }
 
-/* Least-squares fit of z over the anterior nodes within rmax of the axis by a full quartic in
- * (x, y); returns the apex Hessian entries (zxx, zxy, zyy). */
+/* Gaussian elimination with partial pivoting; the solution overwrites b. */
 static int solve(double *A, double *b, int n)
 {
     for (int c = 0; c < n; c++) {
@@ -161,6 +161,8 @@ static int solve(double *A, double *b, int n)
     return 0;
 }
 
+/* Least-squares fit of z over the anterior nodes within rmax of the axis by a full quartic in
+ * (x, y); returns the apex Hessian entries (zxx, zxy, zyy). */
 static int fit_apex_hessian(const kt_mesh *m, const int *nodes, int count, double rmax,
                             double H[3], int *used)
 {
