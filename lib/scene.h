@@ -10,6 +10,9 @@
 
 enum { KT_MODEL_EYE = 1, KT_MODEL_BOX, KT_MODEL_SURFACE, KT_MODEL_IMAGE };
 enum { KT_ORDERING_AMD = 1, KT_ORDERING_METIS, KT_ORDERING_CONSTRAINED, KT_ORDERING_NATURAL };
+/* What the scene's geometry is (loads.reference): the measured shape under the scene's loads
+ * (mesh-prep then computes the stress-free shape, lib/refgeom.h), or already stress-free. */
+enum { KT_REFERENCE_LOADED = 0, KT_REFERENCE_UNLOADED = 1 };
 
 #define KT_SCENE_MAX 16
 
@@ -89,6 +92,9 @@ typedef struct kt_scene {
     kt_pressure pressure[KT_SCENE_MAX];
     int nfix;
     kt_fixation fix[KT_SCENE_MAX];
+    int reference;              /* KT_REFERENCE_* (loads.reference; default loaded) */
+    double reference_tol;       /* mm: shape tolerance of the stress-free iteration
+                                   (loads.reference_tolerance; default 1e-5 mm) */
 } kt_scene;
 
 /* Load and validate a scene file. Unknown keys, duplicate keys, wrong types, missing or

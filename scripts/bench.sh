@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench.sh BUILD_DIR [--full] [--only PART[,PART...]] [--results DIR] [--budget S] [-h]
+# bench.sh BUILD_DIR [--full|--smoke] [--only PART[,PART...]] [--results DIR] [--budget S] [-h]
 #
 # The keratome benchmark suite (issue 6, and augsolve's benchmark of issue 3). Five parts, each
 # runnable alone, in this order:
@@ -18,7 +18,9 @@
 # Every run is bounded by timeout(1) and the baselines by a wall budget, so the suite cannot
 # hang. The quick default stops the beam series at h = 256 and the brick series at 16 cells
 # (the headline's 5x5x1024 beam cut runs in both modes); --full adds h = 512, 1024, the 20-cell
-# brick, and larger eyes. OPENBLAS_NUM_THREADS defaults to 1 (shared 2-core machines: two
+# brick, and larger eyes; --smoke checks the suite itself in minutes (tiny beams and bricks, no
+# eye, bunny or long beam). --budget S: wall seconds per baseline run (CG, Jacobi-PCG; default
+# 240, x4 with --full). OPENBLAS_NUM_THREADS defaults to 1 (shared 2-core machines: two
 # OpenBLAS threads on a loaded machine were 10x slower here, see tests/bench/README.md).
 set -uo pipefail
 shopt -s nullglob
@@ -27,7 +29,7 @@ ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 PARTS_ALL="bandwidth paper ordering tradeoff stability"
 
 usage() {
-    sed -n '2,25p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+    sed -n "2,26p" "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
     exit "${1:-2}"
 }
 
@@ -36,12 +38,14 @@ case $1 in -h|--help) usage 0 ;; esac
 B=$(cd "$1" 2>/dev/null && pwd) || { echo "bench: no build folder $1" >&2; exit 2; }
 shift
 FULL=0
+SMOKE=0
 ONLY=$PARTS_ALL
 R=$ROOT/results
 BUDGET_CG=${KT_BENCH_BUDGET:-240}
 while [ $# -gt 0 ]; do
     case $1 in
         --full) FULL=1 ;;
+        --smoke) SMOKE=1 ;;
         --only) ONLY=${2//,/ }; shift ;;
         --results) R=$2; shift ;;
         --budget) BUDGET_CG=$2; shift ;;
@@ -205,7 +209,7 @@ machine() {
         printf 'memory\t%s\n' "$(awk '/^MemTotal/ { printf "%.1f GiB", $2 / 1048576 }' /proc/meminfo)"
         printf 'loadavg\t%s\n' "$(cut -d' ' -f1-3 /proc/loadavg)"
         printf 'openblas_threads\t%s\n' "$OPENBLAS_NUM_THREADS"
-        printf 'mode\t%s\n' "$([ "$FULL" = 1 ] && echo full || echo quick)"
+        printf 'mode\t%s\n' "$([ "$FULL" = 1 ] && echo full || { [ "$SMOKE" = 1 ] && echo smoke || echo quick; })"
         printf 'commit\t%s\n' "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null)$(git -C "$ROOT" diff --quiet 2>/dev/null || echo ' (with uncommitted changes)')"
     } >"$R/machine-$1.tsv"
 }
@@ -214,7 +218,17 @@ machine() {
 
 BEAMS="4 8 16 32 64 128 256"
 BRICKS="4 8 12 16"
-if [ "$FULL" = 1 ]; then BEAMS="$BEAMS 512 1024"; BRICKS="$BRICKS 20"; fi
+HEAD_BEAM=1024      # the headline's 25,600-node beam
+ORD_BEAM=256        # the ordering part's beam
+NU_BEAM=128         # the Poisson-ratio sweep's beam
+LONG_BEAMS="4 16 64 256 1024"
+WITH_EYE=1 WITH_BUNNY=1 WITH_DUP=1
+if [ "$FULL" = 1 ]; then BEAMS="$BEAMS 512 1024"; BRICKS="$BRICKS 20"; ORD_BEAM=1024; fi
+# --smoke: the suite's own check, minutes: tiny beams and bricks, no eye, bunny or long beam
+if [ "$SMOKE" = 1 ]; then
+    BEAMS="4 8" BRICKS="4" HEAD_BEAM=8 ORD_BEAM=8 NU_BEAM=8 LONG_BEAMS="4 8"
+    WITH_EYE=0 WITH_BUNNY=0 WITH_DUP=0
+fi
 
 # beam/brick meshes and edits, cached.
 prep_box() { # beam|brick SIZE
@@ -252,14 +266,17 @@ part_bandwidth() {
     BW=$(awk -F'\t' 'NR == 2 { print $5 }' "$D/stream.tsv")
     [ -n "$BW" ] || { log "  no STREAM figure: bandwidth part stops"; return 1; }
     log "  STREAM triad: $BW GB/s (1 thread, best of 10)"
-    cases="beam-64:zmax beam-256:zmax brick-8:zmax brick-16:zmax eye:incision-ring-1 bunny:-"
+    cases="beam-64:zmax beam-256:zmax brick-8:zmax brick-16:zmax"
+    [ $WITH_EYE = 1 ] && cases="$cases eye:incision-ring-1"
+    [ $WITH_BUNNY = 1 ] && cases="$cases bunny:-"
     [ "$FULL" = 1 ] && cases="$cases beam-1024:zmax brick-20:zmax"
+    [ "$SMOKE" = 1 ] && cases="beam-8:zmax brick-4:zmax"
     printf 'tag\tkind\tnode\tclosure_dofs\tentries\tbytes\ttime_ms\n' >"$D/solves.tsv"
     for c in $cases; do
         m=${c%%:*} set=${c#*:}
         case $m in
             eye) prep_eye ;;
-            bunny) prep_bunny ;;
+            bunny) mesh "$PL/bunny.yaml" "$MESHES/bunny.msh" ;;
             *) mesh "$PL/$m.yaml" "$MESHES/$m.msh" ;;
         esac || continue
         local scene=$PL/$m.yaml
@@ -312,7 +329,7 @@ part_paper() {
     mkdir -p "$D" "$F"
     printf '%s\n' "$STEPS_HEADER" >"$S"
     local beams=$BEAMS
-    case " $beams " in *" 1024 "*) ;; *) beams="$beams 1024" ;; esac # the headline beam
+    case " $beams " in *" $HEAD_BEAM "*) ;; *) beams="$beams $HEAD_BEAM" ;; esac # the headline beam
     for m in beam brick; do
         local sizes=$BRICKS
         [ $m = beam ] && sizes=$beams
@@ -320,7 +337,8 @@ part_paper() {
             prep_box $m "$s" || continue
             for exp in cut deform; do
                 # the quick mode runs only the headline's cut on the 5x5x1024 beam
-                [ "$FULL" != 1 ] && [ $m = beam ] && [ "$s" = 1024 ] && [ $exp = deform ] && continue
+                [ "$FULL" != 1 ] && [ $m = beam ] && [ "$s" = "$HEAD_BEAM" ] && [ $exp = deform ] &&
+                    [ "$SMOKE" != 1 ] && continue
                 for meth in $(paper_methods $m "$s"); do
                     log "  $exp $m-$s $meth"
                     solve $exp $m "$s" "$MESHES/$m-$s.msh" "$EDITS/$exp-$m-$s.edits" "$meth" "$S"
@@ -328,13 +346,13 @@ part_paper() {
             done
         done
     done
-    if prep_eye; then
+    if [ $WITH_EYE = 1 ] && prep_eye; then
         for meth in augmented refactor pcg-jacobi cg; do
             log "  lri eye $meth"
             solve lri eye default "$MESHES/eye.msh" "$EDITS/lri-eye.edits" "$meth" "$S"
         done
     fi
-    if prep_bunny; then
+    if [ $WITH_BUNNY = 1 ] && prep_bunny; then
         for meth in augmented refactor pcg-jacobi cg; do
             log "  cut bunny $meth"
             solve cut bunny default "$MESHES/bunny-snapped.msh" "$EDITS/cut-bunny.edits" "$meth" "$S"
@@ -361,10 +379,10 @@ paper_tables() {
     local D=$1 S=$1/steps.tsv
     # HEADLINE: per-step time ratios on the same steps. A baseline step that missed its
     # tolerance (status fail) or ran out of budget gives a lower bound (">").
-    awk -F'\t' -v OFS='\t' '
+    awk -F'\t' -v OFS='\t' -v hb="$HEAD_BEAM" '
         NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
         function key() { return $1 SUBSEP $2 SUBSEP $3 }
-        ($1 == "cut" && $2 == "beam" && $3 == "1024") || ($1 == "cut" && $2 == "bunny") || ($1 == "lri" && $2 == "eye") {
+        ($1 == "cut" && $2 == "beam" && $3 == hb) || ($1 == "cut" && $2 == "bunny") || ($1 == "lri" && $2 == "eye") {
             k = key(); st = $(c["step"]) + 0; meth = $(c["method"])
             if (!(k in seen)) { seen[k] = 1; order[++nk] = k; nodes[k] = $4 }
             t[k, meth, st] = $(c["t_total_ms"]); ok[k, meth, st] = $(c["status"])
@@ -404,9 +422,9 @@ paper_tables() {
             }
         }' "$S" >"$D/headline.tsv"
     # per-step detail of the headline cases
-    awk -F'\t' -v OFS='\t' '
+    awk -F'\t' -v OFS='\t' -v hb="$HEAD_BEAM" '
         NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-        ($1 == "cut" && $2 == "beam" && $3 == "1024") || ($1 == "cut" && $2 == "bunny") || ($1 == "lri" && $2 == "eye") {
+        ($1 == "cut" && $2 == "beam" && $3 == hb) || ($1 == "cut" && $2 == "bunny") || ($1 == "lri" && $2 == "eye") {
             k = $1 "-" $2 "-" $3; st = $(c["step"]); if (!((k, st) in s)) { s[k, st] = 1; rows[++n] = k SUBSEP st }
             t[k, st, $(c["method"])] = $(c["t_total_ms"]) ($(c["status"]) == "ok" ? "" : "(" $(c["status"]) ")")
             if ($(c["method"]) == "augmented") { mm[k, st] = $(c["m"]); it[k, st] = $(c["iters"]); cl[k, st] = $(c["closure_max"]) }
@@ -543,7 +561,7 @@ paper_plots() {
     plot series.gp "$F/fig11a" "files='$files'" "logx=1" "xl='nodes'" "yl='largest GMRES iteration count'" \
         "ttl='GMRES iterations against mesh size'"
     files=""
-    for c in "cut beam $big_beam" "cut beam 1024" "cut brick $big_brick" "cut bunny default" "lri eye default"; do
+    for c in "cut beam $big_beam" "cut beam $HEAD_BEAM" "cut brick $big_brick" "cut bunny default" "lri eye default"; do
         set -- $c
         awk -F'\t' -v OFS='\t' -v e="$1" -v mo="$2" -v sz="$3" '
             NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; print "step", mo "-" sz; next }
@@ -562,7 +580,327 @@ paper_plots() {
     done
 }
 
-# @PARTS@
+# ================================================================== part: ordering
+# The same cut under each elimination order mesh-prep offers: nnz(L), flops and closures from
+# mesh-prep's symbolic analysis, factor and solve times from bench_solves, per-step times and
+# closures of the augmented method from augsolve.
+part_ordering() {
+    local D=$R/ordering S c model scene plan set ord msh ed files
+    D=$R/ordering S=$D/steps.tsv
+    mkdir -p "$D"
+    printf '%s\n' "$STEPS_HEADER" >"$S"
+    printf 'model\tordering\tnodes\tnnz_L\tflops\tetree_height\tclosure_mean\tclosure_max\tclosure_set\tfactor_ms\tfull_solve_ms\tset_closure_solve_ms\tsteps\taug_ms_median\taug_ms_max\tclosure_max_median\tgmres_iters_max\taug_status\n' >"$D/ordering.tsv"
+    local beam=$ORD_BEAM cases=""
+    [ $WITH_EYE = 1 ] && cases="eye:$PL/eye.yaml:$PL/lri-paired-60.yaml:incision-ring-1"
+    cases="$cases beam-$beam:$PL/beam-$beam.yaml:$PL/cut-beam-$beam.yaml:zmax"
+    for c in $cases; do
+        set -- ${c//:/ }
+        model=$1 scene=$2 plan=$3 set=$4
+        for ord in amd metis constrained metis-last; do
+            msh=$MESHES/$model-$ord.msh ed=$EDITS/$model-$ord.edits
+            mesh "$scene" "$msh" --ordering $ord || continue
+            cut_edits "$plan" "$msh" "$ed" || continue
+            log "  $model $ord"
+            run "ord-solves-$model-$ord" "$T_RUN" "$B/bench_solves" "$msh" "$scene" --set "$set" \
+                --sample 20 --spread 0 --reps 3 --tag "$model-$ord"
+            SUFFIX= solve ordering "$model" "$ord" "$msh" "$ed" augmented "$S"
+            # one row: mesh-prep's analysis (its starred row), bench_solves' times, the steps
+            local summary ana solves steps
+            summary=$LOGS/mesh-$model-$ord.out
+            ana=$(awk '/^\* / { printf "%s\t%s\t%s\t%s\t%s\t%s", $3, $4, $5, $6, $7, $8; exit }' "$summary")
+            solves=$(awk -F'\t' '$2 == "factor" { f = $7 } $2 == "full-super" { s = $7 }
+                $2 == "closure-set" { c += $7; n++ }
+                END { printf "%.1f\t%.2f\t%s", f, s, n ? sprintf("%.3f", c / n) : "NaN" }' "$LOGS/ord-solves-$model-$ord.out" 2>/dev/null)
+            steps=$(awk -F'\t' -v mo="$model" -v o="$ord" '
+                NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+                $1 == "ordering" && $2 == mo && $3 == o && $(c["step"]) + 0 >= 1 {
+                    if ($(c["status"]) != "ok") { st = $(c["status"]); next }
+                    n++; t[n] = $(c["t_total_ms"]); cl[n] = $(c["closure_max"]); if ($(c["iters"]) + 0 > it) it = $(c["iters"]) + 0 }
+                function med(a, n,   i, j, x) { for (i = 2; i <= n; i++) { x = a[i]; for (j = i - 1; j >= 1 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x } return a[int((n + 1) / 2)] }
+                END { if (!n) { printf "0\tNaN\tNaN\tNaN\tNaN\t%s", st ? st : "none"; exit }
+                      mx = 0; for (i = 1; i <= n; i++) if (t[i] > mx) mx = t[i]
+                      printf "%d\t%.2f\t%.2f\t%s\t%d\t%s", n, med(t, n), mx, med(cl, n), it, st ? st : "ok" }' "$S")
+            printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$model" "$ord" "$(mesh_nodes "$msh")" "$ana" "$solves" "$steps" >>"$D/ordering.tsv"
+        done
+        files=""
+        for ord in amd metis constrained metis-last; do
+            awk -F'\t' -v OFS='\t' -v mo="$model" -v o="$ord" '
+                NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; print "step", o; next }
+                $1 == "ordering" && $2 == mo && $3 == o && $(c["step"]) + 0 >= 1 && $(c["status"]) == "ok" {
+                    print $(c["step"]), $(c["t_total_ms"]) }' "$S" >"$D/steps-$model-$ord.tsv"
+            files="$files $D/steps-$model-$ord.tsv"
+        done
+        plot series.gp "$D/ordering-$model" "files='$files'" "logy=1" "xl='step'" "yl='augmented step time (ms)'" \
+            "ttl='$model: augmented step time under each ordering'"
+    done
+    column -t -s $'\t' "$D/ordering.tsv" >&2
+}
+
+# ================================================================== part: tradeoff
+# Eye LRI plan. (1) Solver settings on the default P1 eye: GMRES tolerance x preconditioner,
+# re-factorization policies; each run with --verify (difference to a fresh factorization every
+# step) and read by curvature; the dioptre error is against the refactor run on the same mesh
+# (a fresh factorization every step). (2) Element order and resolution: P1 and P2 eyes with the
+# scene's mesh sizes scaled, solved exactly (refactor) so that only the discretization differs;
+# the dioptre error is against the most resolved run.
+
+# scale_eye FACTOR < scene > scene: every mesh_size field times FACTOR
+scale_eye() {
+    awk -v f="$1" '
+        /^  mesh_size:/ { inb = 1; print; next }
+        inb && /^    [a-z_]+: *[0-9.]+ mm/ { match($0, /[0-9.]+ mm/); v = substr($0, RSTART, RLENGTH - 3) * f
+            sub(/[0-9.]+ mm/, sprintf("%.4g mm", v)); print; next }
+        inb && !/^    / { inb = 0 }
+        { print }'
+}
+
+# truncate_edits IN OUT N: the header and the first N steps
+truncate_edits() { awk -v n="$3" '/^step / && $2 + 0 > n { exit } { print }' "$1" >"$2"; }
+
+# trade_run NAME MESH EDITS SCENE [augsolve options]: augsolve with VTKs and --verify (never
+# failing on it), then curvature. Appends one row to $TR.
+trade_run() {
+    local name=$1 msh=$2 ed=$3 scene=$4 rc crc
+    shift 4
+    name=${name//[^A-Za-z0-9.+-]/_}
+    rm -rf "${RUNS:?}/tr-$name"
+    run "tr-$name" "$T_RUN" "$B/augsolve" "$msh" "$ed" -o "$RUNS/tr-$name" --scene "$scene" --binary -q "$@"
+    rc=$?
+    crc=NaN
+    if [ $rc -eq 0 ]; then
+        run "tr-$name-curv" "$T_RUN" "$B/curvature" "$RUNS/tr-$name" -q --no-png --no-vtk
+        crc=$?
+    fi
+    printf '%s\t%s\t%s\t%s\t%s\n' "$name" "$(mesh_nodes "$msh")" "$rc" "$crc" "$*" >>"$TR.runs"
+}
+
+part_tradeoff() {
+    local D=$R/tradeoff
+    mkdir -p "$D"
+    TR=$D/tradeoff
+    : >"$TR.runs"
+    [ $WITH_EYE = 1 ] || { log "  no eye in this mode: tradeoff skipped"; return 0; }
+    prep_eye || { log "  no eye mesh: tradeoff stops"; return 1; }
+    local nst=4 ed=$EDITS/lri-eye.edits
+    if [ "$FULL" != 1 ]; then
+        truncate_edits "$EDITS/lri-eye.edits" "$EDITS/lri-eye-$nst.edits" $nst
+        ed=$EDITS/lri-eye-$nst.edits
+    fi
+    # (1) solver settings
+    local tols="1e-4 1e-6 1e-8 1e-10 1e-12" pcs="none diag spai" tol pc pol
+    log "  reference: refactor on the default eye"
+    trade_run ref-p1 "$MESHES/eye.msh" "$ed" "$PL/eye.yaml" --method refactor
+    for pc in $pcs; do
+        for tol in $tols; do
+            # the quick mode sweeps the tolerance with the default preconditioner only
+            [ "$FULL" != 1 ] && [ $pc != spai ] && [ $tol != 1e-8 ] && continue
+            log "  augmented --precond $pc --tol $tol"
+            trade_run "aug-$pc-$tol" "$MESHES/eye.msh" "$ed" "$PL/eye.yaml" --precond $pc --tol $tol \
+                --verify --verify-tol 1e300
+        done
+    done
+    for pol in auto every:2 'm>600'; do
+        log "  augmented --refactor $pol --refactor-sync"
+        trade_run "aug-refactor-${pol//[>:]/}" "$MESHES/eye.msh" "$ed" "$PL/eye.yaml" --refactor "$pol" \
+            --refactor-sync --verify --verify-tol 1e300
+    done
+    log "  pcg-jacobi --tol 1e-8"
+    trade_run pcg-1e-8 "$MESHES/eye.msh" "$ed" "$PL/eye.yaml" --method pcg-jacobi --tol 1e-8 --verify --verify-tol 1e300
+    # (2) order and resolution: scaled mesh sizes (the default eye is P1 at scale 1)
+    local p1s="2.5 1 0.8" p2s="2.5" sc o scene msh
+    [ "$FULL" = 1 ] && p1s="2.5 1 0.8 0.65" p2s="2.5 2 1.6"
+    for o in 1 2; do
+        local scales=$p1s
+        [ $o = 2 ] && scales=$p2s
+        for sc in $scales; do
+            scene=$SCN/eye-s$sc.yaml
+            scale_eye "$sc" <"$PL/eye.yaml" >"$scene.tmp" && { cmp -s "$scene.tmp" "$scene" || mv "$scene.tmp" "$scene"; }
+            rm -f "$scene.tmp"
+            msh=$MESHES/eye-p$o-s$sc.msh
+            # P2: METIS (the constrained ordering's dense block grows with the square of the
+            # ring's nodes, four times more with 10-node tets: mesh-prep(1))
+            local ordopt=()
+            [ $o = 2 ] && ordopt=(--ordering metis)
+            mesh "$scene" "$msh" --order $o "${ordopt[@]}" || continue
+            cut_edits "$PL/lri-paired-60.yaml" "$msh" "$EDITS/lri-eye-p$o-s$sc.edits" || continue
+            log "  P$o eye, mesh sizes x $sc: refactor"
+            trade_run "res-p$o-s$sc" "$msh" "$EDITS/lri-eye-p$o-s$sc.edits" "$scene" --method refactor
+        done
+    done
+    trade_tables "$D"
+}
+
+# curvature.tsv of a run -> "step flattening coupling" lines
+curv_cols() {
+    awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+        { print $(c["step"]), $(c["flattening_D"]), $(c["coupling_ratio"]) }' "$1"
+}
+
+trade_tables() {
+    local D=$1 name nodes rc crc opts run ref
+    printf 'setting\tnodes\texit\tsteps\tstep_ms_median\tstep_ms_mean\tgmres_iters_max\tverify_rel_diff_max\trel_residual_max\tflattening_D\tcoupling_ratio\tflattening_err_D\tcoupling_err\treference\n' >"$D/tradeoff.tsv"
+    # the most resolved run of the resolution study: the last P2 one, else the last P1 one
+    local best
+    best=$(awk -F'\t' '$1 ~ /^res-p2/ && $3 == 0 && $4 == 0 { b = $1 } END { print b }' "$TR.runs")
+    [ -n "$best" ] || best=$(awk -F'\t' '$1 ~ /^res-p1/ && $3 == 0 && $4 == 0 { b = $1 } END { print b }' "$TR.runs")
+    while IFS=$'\t' read -r name nodes rc crc opts; do
+        run=$RUNS/tr-$name
+        case $name in res-*) ref=$best ;; *) ref=ref-p1 ;; esac
+        local st="" cv="" cr=""
+        [ -s "$run/steps.tsv" ] && st=$(awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+            $(c["step"]) + 0 >= 1 { n++; t[n] = $(c["t_total_ms"]); s += t[n]
+                if ($(c["iters"]) + 0 > it) it = $(c["iters"]) + 0
+                v = $(c["verify_rel_diff"]); if (v != "NaN" && v + 0 > vd) vd = v + 0
+                r = $(c["rel_residual"]); if (r != "NaN" && r + 0 > rr) rr = r + 0 }
+            END { for (i = 2; i <= n; i++) { x = t[i]; for (j = i - 1; j >= 1 && t[j] > x; j--) t[j + 1] = t[j]; t[j + 1] = x }
+                  if (n) printf "%d\t%.1f\t%.1f\t%d\t%.2e\t%.2e", n, t[int((n + 1) / 2)], s / n, it, vd, rr }' "$run/steps.tsv")
+        [ -n "$st" ] || st="0	NaN	NaN	NaN	NaN	NaN"
+        if [ -s "$run/curvature.tsv" ] && [ -s "$RUNS/tr-$ref/curvature.tsv" ]; then
+            cv=$(curv_cols "$run/curvature.tsv" | tail -n 1 | awk '{ printf "%.4f\t%.4f", $2, $3 }')
+            # the largest difference over the steps both runs have
+            cr=$(join <(curv_cols "$run/curvature.tsv" | sort -k1,1) <(curv_cols "$RUNS/tr-$ref/curvature.tsv" | sort -k1,1) |
+                awk '{ d = $2 - $4; if (d < 0) d = -d; if (d > fe) fe = d
+                       if ($3 != "NaN" && $5 != "NaN") { d = $3 - $5; if (d < 0) d = -d; if (d > ce) ce = d } }
+                     END { printf "%.4f\t%.4f", fe, ce }')
+        fi
+        printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$nodes" "$rc" "$st" "${cv:-NaN	NaN}" "${cr:-NaN	NaN}" "$ref" >>"$D/tradeoff.tsv"
+    done <"$TR.runs"
+    column -t -s $'\t' "$D/tradeoff.tsv" >&2
+    # Pareto: time per step against the flattening error (a zero error is drawn at 1e-6 D)
+    awk -F'\t' -v OFS='\t' 'NR == 1 { print "step_ms", "flattening_err_D", "setting"; next }
+        $5 != "NaN" && $12 != "NaN" { e = $12 + 0; if (e < 1e-6) e = 1e-6; print $5, e, $1 }' \
+        "$D/tradeoff.tsv" >"$D/pareto.tsv"
+    plot pareto.gp "$D/pareto" "in='$D/pareto.tsv'"
+}
+
+# ================================================================== part: stability
+# Each case: a condition number estimate of the intact stiffness (bench_cond), the run a user
+# makes (augsolve, defaults, no --verify: its exit status and message), and the same steps
+# through the library with --verify (bench_steps: the largest difference to a fresh
+# factorization, the relative residual, GMRES iterations). Verdict:
+#   accurate  difference to a fresh factorization <= 1e-8 (augsolve's --verify-tol default)
+#   as-fresh  above 1e-8 but below cond * 1e-16 (what a fresh factorization itself can claim)
+#             with a residual <= 1e-8
+#   loud      augsolve stopped with exit 1 and a message
+#   SILENT    augsolve exited 0 and the answer is neither: silently wrong
+
+# derive SRC DST SED_EXPRESSION...: a scene or plan with fields replaced (cached while unchanged)
+derive() {
+    local src=$1 dst=$2
+    shift 2
+    sed "$@" "$src" >"$dst.tmp"
+    if cmp -s "$dst.tmp" "$dst"; then rm -f "$dst.tmp"; else mv "$dst.tmp" "$dst"; fi
+}
+
+# stab_case CASE PARAM MESH EDITS SCENE [solver options]
+stab_case() {
+    local cs=$1 par=$2 msh=$3 ed=$4 scene=$5 name
+    shift 5
+    name="st-$cs-${par//[^A-Za-z0-9.+-]/_}"
+    log "  $cs $par"
+    local cond="NaN	NaN	NaN	NaN"
+    if run "$name-cond" "$T_RUN" "$B/bench_cond" "$msh" "$scene" --tag "$name"; then
+        cond=$(awk -F'\t' 'NR == 2 { printf "%s\t%s\t%s\t%s", $7, $3, $9, $10 }' "$LOGS/$name-cond.out")
+    fi
+    rm -rf "${RUNS:?}/$name"
+    run "$name" "$T_RUN" "$B/augsolve" "$msh" "$ed" -o "$RUNS/$name" --scene "$scene" --no-vtk -q "$@"
+    local rc=$? msg
+    msg=$(grep -v '^$' "$LOGS/$name.err" | tail -n 1 | tr '\t' ' ' | cut -c1-160)
+    run "$name-verify" "$T_RUN" "$B/bench_steps" "$msh" "$ed" --scene "$scene" --verify --keep-going \
+        --budget "$BUDGET_CG" "$@"
+    local ver
+    ver=$(awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+        $(c["status"]) == "budget" { next }
+        { n++; if ($(c["status"]) != "ok") bad++
+          v = $(c["verify_rel_diff"]); if (v != "NaN" && v + 0 > vd) vd = v + 0
+          r = $(c["rel_residual"]); if (r != "NaN" && r + 0 > rr) rr = r + 0
+          if ($(c["iters"]) + 0 > it) it = $(c["iters"]) + 0; nd = $(c["n_dofs"]); m = $(c["m"]) }
+        END { printf "%d\t%d\t%.2e\t%.2e\t%d\t%s\t%s", n - 1, bad, vd, rr, it, nd, m }' "$LOGS/$name-verify.out")
+    local dup
+    dup=$(awk '$1 == "dup" { n++ } END { print n + 0 }' "$ed")
+    local verdict
+    verdict=$(printf '%s\t%s\t%s\n' "$rc" "$cond" "$ver" | awk -F'\t' '{
+        rc = $1; cond = $2; vd = $8; rr = $9; bad = $7
+        if (rc != 0) { print (rc == 1 ? "loud" : (rc == 124 ? "timeout" : "error")); exit }
+        if (vd + 0 <= 1e-8 && bad == 0) { print "accurate"; exit }
+        if (cond != "NaN" && vd + 0 <= cond * 1e-16 && rr + 0 <= 1e-8 && bad == 0) { print "as-fresh"; exit }
+        print "SILENT" }')
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$cs" "$par" "$(mesh_nodes "$msh")" "$dup" "$cond" "$ver" \
+        "$rc" "$verdict" "$msg" >>"$ST"
+}
+
+part_stability() {
+    local D=$R/stability nu c s msh ed sc
+    mkdir -p "$D"
+    ST=$D/stability.tsv
+    printf 'case\tparam\tnodes\tdup_nodes\tcond\tpivot_ratio\tlanczos_change\tmin_quality\tsteps\tsteps_failed\tverify_rel_diff_max\trel_residual_max\tgmres_iters_max\tn_dofs_end\tm_end\taugsolve_exit\tverdict\taugsolve_message\n' >"$ST"
+    # Poisson ratio: the 5x5x128 beam cut and the eye LRI (first steps in quick mode)
+    local nb=$NU_BEAM eyed=$EDITS/lri-eye.edits
+    prep_box beam $nb
+    if [ $WITH_EYE = 1 ]; then
+        prep_eye
+        if [ "$FULL" != 1 ]; then truncate_edits "$EDITS/lri-eye.edits" "$EDITS/lri-eye-4.edits" 4; eyed=$EDITS/lri-eye-4.edits; fi
+    fi
+    for nu in 0.3 0.45 0.49 0.499 0.4999; do
+        derive "$PL/beam-$nb.yaml" "$SCN/beam-$nb-nu$nu.yaml" -e "s/nu: 0\.3}/nu: $nu}/"
+        stab_case nu-beam-$nb "$nu" "$MESHES/beam-$nb.msh" "$EDITS/cut-beam-$nb.edits" "$SCN/beam-$nb-nu$nu.yaml"
+        [ $WITH_EYE = 1 ] || continue
+        derive "$PL/eye.yaml" "$SCN/eye-nu$nu.yaml" -e "s/nu: 0\.49}/nu: $nu}/"
+        stab_case nu-eye "$nu" "$MESHES/eye.msh" "$eyed" "$SCN/eye-nu$nu.yaml"
+    done
+    # long beams (the paper: condition numbers up to 3.3e12 at h = 1024)
+    for s in $LONG_BEAMS; do
+        prep_box beam "$s" || continue
+        stab_case beam-length "$s" "$MESHES/beam-$s.msh" "$EDITS/cut-beam-$s.edits" "$PL/beam-$s.yaml"
+    done
+    # region stiffness contrast: sclera / cornea = 1 ... 1e6 (limbus at the geometric mean)
+    for c in 1 1e2 1e4 1e6; do
+        [ $WITH_EYE = 1 ] || break
+        local es el
+        es=$(awk -v c="$c" 'BEGIN { printf "%g", 0.3 * c }')
+        el=$(awk -v c="$c" 'BEGIN { printf "%g", 0.3 * sqrt(c) }')
+        derive "$PL/eye.yaml" "$SCN/eye-contrast$c.yaml" \
+            -e "s/^  limbus: {E: [0-9.]* MPa/  limbus: {E: $el MPa/" -e "s/^  sclera: {E: [0-9.]* MPa/  sclera: {E: $es MPa/"
+        stab_case contrast-eye "$c" "$MESHES/eye.msh" "$eyed" "$SCN/eye-contrast$c.yaml"
+    done
+    # slivers next to the cut: a tilted plane through the 8-cell brick, every node within half
+    # its shortest edge snapped onto it, the quality floor lowered to 1e-3
+    prep_box brick 8
+    for c in "0.25 0.05" "0.5 0.001"; do
+        set -- $c
+        local pl=$SCN/cut-brick-8-snap$1.yaml
+        derive "$PL/cut-brick-8.yaml" "$pl" -e "s|^scene: .*|scene: $PL/brick-8.yaml|" \
+            -e "s|^  point: .*|  point: [0.53 mm, 0 mm, 0 mm]|" -e "s|^  normal: .*|  normal: [1, 0.37, 0.21]|"
+        printf 'snap:\n  fraction: %s\n  min_quality: %s\n' "$1" "$2" >>"$pl"
+        if run "cut-brick-8-snap$1" "$T_MESH" "$B/cutplan" "$pl" "$MESHES/brick-8.msh" -o "$EDITS/cut-brick-8-snap$1.edits" \
+            --mesh-out "$MESHES/brick-8-snap$1.msh" -q; then
+            stab_case slivers-brick-8 "snap$1" "$MESHES/brick-8-snap$1.msh" "$EDITS/cut-brick-8-snap$1.edits" "$PL/brick-8.yaml"
+        else
+            printf 'slivers-brick-8\tsnap%s\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tcutplan-refused\t%s\n' \
+                "$1" "$(tail -n 1 "$LOGS/cut-brick-8-snap$1.err" | cut -c1-160)" >>"$ST"
+        fi
+    done
+    # incisions to 95% of the local thickness (the ring itself moved to 95%)
+    derive "$PL/eye.yaml" "$SCN/eye-depth95.yaml" -e "s/depth_fraction: 0\.9 /depth_fraction: 0.95/"
+    derive "$PL/lri-paired-60.yaml" "$SCN/lri-depth95.yaml" -e "s|^scene: .*|scene: $SCN/eye-depth95.yaml|" \
+        -e "s/depth_fraction: 0\.9 /depth_fraction: 0.95/"
+    if [ $WITH_EYE = 1 ] && mesh "$SCN/eye-depth95.yaml" "$MESHES/eye-depth95.msh" &&
+        cut_edits "$SCN/lri-depth95.yaml" "$MESHES/eye-depth95.msh" "$EDITS/lri-depth95.edits"; then
+        ed=$EDITS/lri-depth95.edits
+        [ "$FULL" != 1 ] && { truncate_edits "$ed" "$EDITS/lri-depth95-4.edits" 4; ed=$EDITS/lri-depth95-4.edits; }
+        stab_case depth-eye 0.95 "$MESHES/eye-depth95.msh" "$ed" "$SCN/eye-depth95.yaml"
+    fi
+    # >= 5,000 duplicated nodes: the 5x5x1024 beam split along 1000 mm, 50 rows a step
+    [ $WITH_DUP = 1 ] && prep_box beam 1024 &&
+    derive "$PL/cut-beam-1024.yaml" "$SCN/cut-beam-1024-long.yaml" -e "s|^scene: .*|scene: $PL/beam-1024.yaml|" \
+        -e "s|^  length: .*|  length: 1000 mm|" -e "s|^  nodes_per_step: .*|  nodes_per_step: 250|"
+    if [ $WITH_DUP = 1 ] && cut_edits "$SCN/cut-beam-1024-long.yaml" "$MESHES/beam-1024.msh" "$EDITS/cut-beam-1024-long.edits"; then
+        stab_case dup5000-beam-1024 default "$MESHES/beam-1024.msh" "$EDITS/cut-beam-1024-long.edits" "$PL/beam-1024.yaml"
+        stab_case dup5000-beam-1024 "refactor-m>3000" "$MESHES/beam-1024.msh" "$EDITS/cut-beam-1024-long.edits" \
+            "$PL/beam-1024.yaml" --refactor 'm>3000' --refactor-sync
+    fi
+    column -t -s $'\t' "$ST" >&2
+}
 
 # ------------------------------------------------------------------ main
 
