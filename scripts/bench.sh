@@ -187,8 +187,21 @@ plot() {
     local gp=$1 out=$2
     shift 2
     command -v gnuplot >/dev/null || return 0
-    local args=(-e "out='$out'")
-    for a in "$@"; do args+=(-e "$a"); done
+    local args=(-e "out='$out'") a f keep
+    for a in "$@"; do
+        # files='...': keep only series with data; no plot when none has any
+        if [[ $a == files=* ]]; then
+            keep=""
+            for f in $(eval "echo ${a#files=}"); do [ "$(wc -l <"$f")" -gt 1 ] && keep="$keep $f"; done
+            [ -n "$keep" ] || return 0
+            a="files='${keep# }'"
+        fi
+        if [[ $a == in=* ]]; then
+            f=$(eval "echo ${a#in=}")
+            [ -s "$f" ] && [ "$(wc -l <"$f")" -gt 1 ] || return 0
+        fi
+        args+=(-e "$a")
+    done
     gnuplot "${args[@]}" "$GP/$gp" 2>>"$LOGS/gnuplot.err" || log "  gnuplot $gp -> $out failed (logs/gnuplot.err)"
 }
 
@@ -818,10 +831,13 @@ stab_case() {
         END { printf "%d\t%d\t%.2e\t%.2e\t%d\t%s\t%s", n - 1, bad, vd, rr, it, nd, m }' "$LOGS/$name-verify.out")
     local dup
     dup=$(awk '$1 == "dup" { n++ } END { print n + 0 }' "$ed")
-    local verdict
-    verdict=$(printf '%s\t%s\t%s\n' "$rc" "$cond" "$ver" | awk -F'\t' '{
-        rc = $1; cond = $2; vd = $8; rr = $9; bad = $7
+    local verdict singular
+    # the fresh factorization of --verify found the current stiffness singular (a mechanism)
+    singular=$(grep -c 'not positive definite' "$LOGS/$name-verify.err")
+    verdict=$(printf '%s\t%s\t%s\t%s\n' "$rc" "$cond" "$ver" "$singular" | awk -F'\t' '{
+        rc = $1; cond = $2; vd = $8; rr = $9; bad = $7; sing = $13
         if (rc != 0) { print (rc == 1 ? "loud" : (rc == 124 ? "timeout" : "error")); exit }
+        if (sing > 0) { print "SILENT-singular-K"; exit }
         if (vd + 0 <= 1e-8 && bad == 0) { print "accurate"; exit }
         if (cond != "NaN" && vd + 0 <= cond * 1e-16 && rr + 0 <= 1e-8 && bad == 0) { print "as-fresh"; exit }
         print "SILENT" }')
@@ -866,18 +882,22 @@ part_stability() {
     # slivers next to the cut: a tilted plane through the 8-cell brick, every node within half
     # its shortest edge snapped onto it, the quality floor lowered to 1e-3
     prep_box brick 8
-    for c in "0.25 0.05" "0.5 0.001"; do
-        set -- $c
-        local pl=$SCN/cut-brick-8-snap$1.yaml
+    # (plane x = 0.53 mm tilted by normal [1, 0.2, 0.05]: snapped at the default 0.25 and at
+    # 0.5; the plane with normal [1, 0.25, 0.25] is a second tilt that this grid cuts badly)
+    for c in "tilt1-snap0.25:0.25:0.05:1, 0.2, 0.05" "tilt1-snap0.5:0.5:0.001:1, 0.2, 0.05" \
+             "tilt2-snap0.25:0.25:0.05:1, 0.25, 0.25"; do
+        local tag=${c%%:*} rest=${c#*:} fr mq nrm
+        fr=${rest%%:*} rest=${rest#*:} mq=${rest%%:*} nrm=${rest#*:}
+        local pl=$SCN/cut-brick-8-$tag.yaml
         derive "$PL/cut-brick-8.yaml" "$pl" -e "s|^scene: .*|scene: $PL/brick-8.yaml|" \
-            -e "s|^  point: .*|  point: [0.53 mm, 0 mm, 0 mm]|" -e "s|^  normal: .*|  normal: [1, 0.37, 0.21]|"
-        printf 'snap:\n  fraction: %s\n  min_quality: %s\n' "$1" "$2" >>"$pl"
-        if run "cut-brick-8-snap$1" "$T_MESH" "$B/cutplan" "$pl" "$MESHES/brick-8.msh" -o "$EDITS/cut-brick-8-snap$1.edits" \
-            --mesh-out "$MESHES/brick-8-snap$1.msh" -q; then
-            stab_case slivers-brick-8 "snap$1" "$MESHES/brick-8-snap$1.msh" "$EDITS/cut-brick-8-snap$1.edits" "$PL/brick-8.yaml"
+            -e "s|^  point: .*|  point: [0.53 mm, 0 mm, 0 mm]|" -e "s|^  normal: .*|  normal: [$nrm]|" \
+            -e "/^  pull_surface:/d" -e "\$a snap:\n  fraction: $fr\n  min_quality: $mq"
+        if run "cut-brick-8-$tag" "$T_MESH" "$B/cutplan" "$pl" "$MESHES/brick-8.msh" -o "$EDITS/cut-brick-8-$tag.edits" \
+            --mesh-out "$MESHES/brick-8-$tag.msh" -q; then
+            stab_case slivers-brick-8 "$tag" "$MESHES/brick-8-$tag.msh" "$EDITS/cut-brick-8-$tag.edits" "$PL/brick-8.yaml"
         else
-            printf 'slivers-brick-8\tsnap%s\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tcutplan-refused\t%s\n' \
-                "$1" "$(tail -n 1 "$LOGS/cut-brick-8-snap$1.err" | cut -c1-160)" >>"$ST"
+            printf 'slivers-brick-8\t%s\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tcutplan-refused\t%s\n' \
+                "$tag" "$(tail -n 1 "$LOGS/cut-brick-8-$tag.err" | cut -c1-160)" >>"$ST"
         fi
     done
     # incisions to 95% of the local thickness (the ring itself moved to 95%)
@@ -902,16 +922,61 @@ part_stability() {
     column -t -s $'\t' "$ST" >&2
 }
 
-# ------------------------------------------------------------------ main
+# ================================================================== report
+# results/report.md: every table of this results folder as Markdown, with the machine.
+md_table() { # TSV [title]
+    [ -s "$1" ] || return 0
+    [ -n "${2:-}" ] && printf '\n### %s\n\n' "$2"
+    printf '(`%s`)\n\n' "${1#$R/}"
+    awk -F'\t' 'NR == 1 { s = "|"; t = "|"; for (i = 1; i <= NF; i++) { s = s " " $i " |"; t = t "---|" } print s; print t; next }
+        { s = "|"; for (i = 1; i <= NF; i++) s = s " " $i " |"; print s }' "$1"
+}
 
-T0=$(now)
-log "results in $R; parts: $ONLY; $([ "$FULL" = 1 ] && echo full || echo quick) mode; build $B"
-[ -f "$R/ledger.tsv" ] || printf 'time\tname\texit\twall_s\tcpu_s\tpeak_mb\tcommand\n' >"$R/ledger.tsv"
-for p in $ONLY; do
-    machine "$p"
-    log "== part $p"
-    t=$(now)
-    "part_$p"
-    log "== part $p done in $(awk -v a="$t" -v b="$(now)" 'BEGIN { printf "%.0f", b - a }') s"
-done
-log "all done in $(awk -v a="$T0" -v b="$(now)" 'BEGIN { printf "%.0f", b - a }') s; see $R"
+write_report() {
+    local f=$R/report.md m
+    {
+        printf '# keratome benchmark results\n\nGenerated by scripts/bench.sh on %s.\n' "$(date '+%F %T %Z')"
+        for m in "$R"/machine-*.tsv; do
+            printf '\n## Machine (%s part)\n\n' "$(basename "$m" .tsv | sed 's/^machine-//')"
+            awk -F'\t' '{ printf "- %s: %s\n", $1, $2 }' "$m"
+        done
+        printf '\n## Bandwidth\n'
+        md_table "$R/bandwidth/stream.tsv" "STREAM triad"
+        md_table "$R/bandwidth/summary.tsv" "Solves against bytes / bandwidth (x_bound = time / bound)"
+        printf '\n## Paper (section 4)\n'
+        md_table "$R/paper/headline.tsv" "HEADLINE: per-step times, augmented vs refactor vs Jacobi-PCG"
+        md_table "$R/paper/headline-steps.tsv" "Headline cases step by step (ms)"
+        md_table "$R/paper/crossover.tsv" "Step at which the cumulative augmented update time equals one factorization"
+        md_table "$R/paper/split.tsv" "Split of the augmented step time (Fig. 10b)"
+        md_table "$R/paper/gmres-iters.tsv" "Largest GMRES iteration count (Fig. 11a)"
+        printf '\n## Ordering\n'
+        md_table "$R/ordering/ordering.tsv" "Orderings"
+        printf '\n## Speed against accuracy (eye LRI)\n'
+        md_table "$R/tradeoff/tradeoff.tsv" "Settings"
+        printf '\n## Stability\n'
+        md_table "$R/stability/stability.tsv" "Extremes"
+        printf '\n## Runs that failed or timed out\n\n'
+        awk -F'\t' 'NR > 1 && $3 != 0 { printf "- %s: exit %s after %s s\n", $2, $3, $4 }' "$R/ledger.tsv"
+    } >"$f"
+    log "report: $f"
+}
+
+# ------------------------------------------------------------------ main
+# Everything runs from this function, called on the script's last line: bash has then read the
+# whole file, so editing the script while a long run goes on cannot derail it.
+main() {
+    T0=$(now)
+    log "results in $R; parts: $ONLY; $([ "$FULL" = 1 ] && echo full || { [ "$SMOKE" = 1 ] && echo smoke || echo quick; }) mode; build $B"
+    [ -f "$R/ledger.tsv" ] || printf 'time\tname\texit\twall_s\tcpu_s\tpeak_mb\tcommand\n' >"$R/ledger.tsv"
+    for p in $ONLY; do
+        machine "$p"
+        log "== part $p"
+        t=$(now)
+        "part_$p"
+        log "== part $p done in $(awk -v a="$t" -v b="$(now)" 'BEGIN { printf "%.0f", b - a }') s"
+    done
+    write_report
+    log "all done in $(awk -v a="$T0" -v b="$(now)" 'BEGIN { printf "%.0f", b - a }') s; see $R"
+}
+
+main "$@"; exit $?
