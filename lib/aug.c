@@ -128,6 +128,7 @@ static void row_finish(kt_aug *A, int nn_before)
     r->new_dofs = 3 * (A->mesh.nn - nn_before);
     if (A->o.method == KT_AUG_AUGMENTED) {
         r->m = A->m;
+        r->nnz_L = A->base->nnzL;
     } else {
         r->m = 0;
         r->closure_max = 0;

@@ -14,9 +14,11 @@
  *       (cholmod_solve2 with a Bset)
  *   (3) a1 = R^-1 (f^ - J a2): the precomputed R^-1 f^_base plus a sparse forward solve and a
  *       full back-substitution, or a closure-restricted one when only a node set is wanted.
- * u = a1 off Lset, u = a2 on Lset \ D, u = g on D; the reaction at j in D is -s_k a2_k. J columns
- * come from the element stiffness of the tets around each node (a node->tet adjacency kept up to
- * date by the cuts), never from a reassembled K. */
+ * v = a1 off Lset, v = a2 on Lset \ D, v = g on D; the reaction at j in D is -s_k a2_k. A DOF
+ * added since the base is written as an increment over the DOF it was split from, u = P v, and
+ * the system solved is the congruent P^T K P v = P^T f^ (see aug_lset.c for why). J columns come
+ * from the element stiffness of the tets around each node (a node->tet adjacency kept up to date
+ * by the cuts), never from a reassembled K. */
 #ifndef KT_AUG_H
 #define KT_AUG_H
 
@@ -90,6 +92,7 @@ typedef struct kt_aug_row {
     double rel_residual;      /* ||(K u - f)_free|| / ||(f - K(:,C) g)_free|| */
     double verify_rel_diff;   /* max |u - u_fresh| / max |u_fresh| over the output nodes */
     char refactor[32];        /* "-", "start", "swap" or "swap+start" */
+    double nnz_L;             /* nonzeros of the factor used (augmented, refactor), else 0 */
 } kt_aug_row;
 
 typedef struct kt_aug kt_aug;

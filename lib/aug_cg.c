@@ -85,6 +85,7 @@ static int fresh_with(kt_aug *A, cholmod_common *c, int use_opts, double *u, dou
         }
     }
     t3 = kt_now();
+    if (!e->code && use_opts) A->row.nnz_L = c->lnz;
     if (!e->code) {
         cholmod_dense B, *X;
         memset(&B, 0, sizeof B);

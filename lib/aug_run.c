@@ -127,8 +127,6 @@ static void write_row(run *r)
 {
     FILE *f = r->tsv.f;
     const kt_aug_row *w = kt_aug_last(r->aug);
-    double nnz, tf;
-    kt_aug_factor_info(r->aug, &nnz, &tf);
     fprintf(f, "%d\t%d\t%d\t%d\t%d\t%d", w->step, w->n_dofs, w->m, w->new_dofs, w->iters,
             w->closure_max);
     double t[5] = {w->t_update, w->t_step1, w->t_step2, w->t_step3, w->t_total};
@@ -140,7 +138,7 @@ static void write_row(run *r)
     tsv_num(f, w->rel_residual, "%.3e");
     fprintf(f, "\t%s\t", w->refactor);
     tsv_num(f, w->verify_rel_diff, "%.3e");
-    fprintf(f, "\t%.0f\n", nnz);
+    fprintf(f, "\t%.0f\n", w->nnz_L);
 }
 
 static void progress(const run *r, int quiet)
@@ -155,6 +153,17 @@ static void progress(const run *r, int quiet)
             tty ? "   " : "\n");
 }
 
+/* A YAML double-quoted scalar: paths may hold ':' '#' or be "-", which plain scalars can't. */
+static void yaml_str(FILE *f, const char *key, const char *v)
+{
+    fprintf(f, "%s: \"", key);
+    for (; *v; v++) {
+        if (*v == '"' || *v == '\\') fputc('\\', f);
+        fputc(*v, f);
+    }
+    fputs("\"\n", f);
+}
+
 static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e)
 {
     char path[PATH_MAX], buf[PATH_MAX];
@@ -162,19 +171,21 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     kt_out out;
     if (kt_out_open(&out, path, e)) return e->code;
     abs_path(o->mesh, buf, sizeof buf);
-    fprintf(out.f, "mesh: %s\nscene: %s\n", buf, r->scene_path);
+    yaml_str(out.f, "mesh", buf);
+    yaml_str(out.f, "scene", r->scene_path);
     if (r->rd.h.plan[0]) {
         abs_path(r->rd.h.plan, buf, sizeof buf);
-        fprintf(out.f, "plan: %s\n", buf);
+        yaml_str(out.f, "plan", buf);
     }
     abs_path(o->edits, buf, sizeof buf);
-    fprintf(out.f, "edits: %s\nmethod: %s\norder: %d\nsteps: %d\n", buf,
-            kt_aug_method_name(o->aug.method), r->mesh.order, steps);
+    yaml_str(out.f, "edits", buf);
+    fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(o->aug.method),
+            r->mesh.order, steps);
     static const char *const PRE[] = {"none", "diag", "spai"}, *const ORD[] = {"natural", "amd", "metis"};
     fprintf(out.f, "tol: %g\nprecond: %s\nordering: %s\nfactor: %s\n", o->aug.tol,
             PRE[o->aug.precond], ORD[o->aug.ordering],
             o->aug.factor == KT_AUG_FACTOR_SIMPLICIAL ? "simplicial" : "supernodal");
-    if (o->aug.output[0]) fprintf(out.f, "output: %s\n", o->aug.output);
+    if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
     return kt_out_commit(&out, e);
 }
 

@@ -19,7 +19,8 @@
 # hang. The quick default stops the beam series at h = 256 and the brick series at 16 cells
 # (the headline's 5x5x1024 beam cut runs in both modes); --full adds h = 512, 1024, the 20-cell
 # brick, and larger eyes; --smoke checks the suite itself in minutes (tiny beams and bricks, no
-# eye, bunny or long beam). --budget S: wall seconds per baseline run (CG, Jacobi-PCG; default
+# eye, bunny or long beam); --replot redoes the tables and plots of earlier runs (paper,
+# tradeoff). --budget S: wall seconds per baseline run (CG, Jacobi-PCG; default
 # 240, x4 with --full). OPENBLAS_NUM_THREADS defaults to 1 (shared 2-core machines: two
 # OpenBLAS threads on a loaded machine were 10x slower here, see tests/bench/README.md).
 set -uo pipefail
@@ -29,7 +30,7 @@ ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 PARTS_ALL="bandwidth paper ordering tradeoff stability"
 
 usage() {
-    sed -n "2,26p" "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+    awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "${BASH_SOURCE[0]}"
     exit "${1:-2}"
 }
 
@@ -39,6 +40,7 @@ B=$(cd "$1" 2>/dev/null && pwd) || { echo "bench: no build folder $1" >&2; exit 
 shift
 FULL=0
 SMOKE=0
+REPLOT=0
 ONLY=$PARTS_ALL
 R=$ROOT/results
 BUDGET_CG=${KT_BENCH_BUDGET:-240}
@@ -46,6 +48,7 @@ while [ $# -gt 0 ]; do
     case $1 in
         --full) FULL=1 ;;
         --smoke) SMOKE=1 ;;
+        --replot) REPLOT=1 ;;
         --only) ONLY=${2//,/ }; shift ;;
         --results) R=$2; shift ;;
         --budget) BUDGET_CG=$2; shift ;;
@@ -77,7 +80,8 @@ mkdir -p "$MESHES" "$EDITS" "$LOGS" "$RUNS" "$SCN"
 
 T_MESH=900      # one mesh-prep or cutplan
 T_RUN=1800      # one solver run (augsolve, bench_*)
-if [ "$FULL" = 1 ]; then T_RUN=5400; BUDGET_CG=$((BUDGET_CG * 4)); fi
+T_STAB=600      # one run of the stability part
+if [ "$FULL" = 1 ]; then T_RUN=5400; T_STAB=3600; BUDGET_CG=$((BUDGET_CG * 4)); fi
 
 log() { printf '[bench %s] %s\n' "$(date +%H:%M:%S)" "$*" >&2; }
 now() { date +%s.%N; }
@@ -153,9 +157,12 @@ canon_aug() {
 # Jacobi-PCG run in bench_steps, which goes on past a step that misses its tolerance and stops
 # at the wall budget.
 solve() {
-    local exp=$1 model=$2 size=$3 msh=$4 ed=$5 meth=$6 out=$7 name nodes rc
+    local exp=$1 model=$2 size=$3 label=$6 out=$7 name nodes rc msh=$4 ed=$5 meth
     shift 7
-    name="$exp-$model-$size-$meth${SUFFIX:-}"
+    # METHOD@TOL: the method at that tolerance, labelled so in the method column
+    meth=${label%%@*}
+    [ "$meth" != "$label" ] && set -- "$@" --tol "${label#*@}"
+    name="$exp-$model-$size-${label//@/-tol}${SUFFIX:-}"
     nodes=$(mesh_nodes "$msh")
     [ -s "$ed" ] || { log "  $name: no edits ($ed)"; return 1; }
     {
@@ -179,7 +186,7 @@ solve() {
                 tail -n +2 "$LOGS/$name.out" | cut -f2-
                 ;;
         esac
-    } | awk -v p="$exp	$model	$size	$nodes" 'NF { print p "\t" $0 }' >>"$out"
+    } | awk -F'\t' -v OFS='\t' -v p="$exp	$model	$size	$nodes" -v lb="$label" 'NF { $1 = lb; print p, $0 }' >>"$out"
 }
 
 # plot SCRIPT OUT_PREFIX [gnuplot -e assignments]: SVG and PNG.
@@ -371,6 +378,15 @@ part_paper() {
             solve cut bunny default "$MESHES/bunny-snapped.msh" "$EDITS/cut-bunny.edits" "$meth" "$S"
         done
     fi
+    # the headline cases again with GMRES stopped at 1e-8 (the default is augsolve's own)
+    for c in "cut beam $HEAD_BEAM $MESHES/beam-$HEAD_BEAM.msh $EDITS/cut-beam-$HEAD_BEAM.edits" \
+             "lri eye default $MESHES/eye.msh $EDITS/lri-eye.edits" \
+             "cut bunny default $MESHES/bunny-snapped.msh $EDITS/cut-bunny.edits"; do
+        set -- $c
+        [ -s "$4" ] && [ -s "$5" ] || continue
+        log "  $1 $2-$3 augmented --tol 1e-8"
+        solve "$1" "$2" "$3" "$4" "$5" augmented@1e-8 "$S"
+    done
     # the background re-factorization (policy auto: start when the update time since the last
     # factor exceeds the factor's time), against the same runs without it
     local big_beam=${BEAMS##* } big_brick=${BRICKS##* }
@@ -392,7 +408,9 @@ paper_tables() {
     local D=$1 S=$1/steps.tsv
     # HEADLINE: per-step time ratios on the same steps. A baseline step that missed its
     # tolerance (status fail) or ran out of budget gives a lower bound (">").
-    awk -F'\t' -v OFS='\t' -v hb="$HEAD_BEAM" '
+    local al hdr=1
+    for al in augmented augmented@1e-8; do
+    awk -F'\t' -v OFS='\t' -v hb="$HEAD_BEAM" -v AL="$al" -v hdr=$hdr '
         NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
         function key() { return $1 SUBSEP $2 SUBSEP $3 }
         ($1 == "cut" && $2 == "beam" && $3 == hb) || ($1 == "cut" && $2 == "bunny") || ($1 == "lri" && $2 == "eye") {
@@ -400,7 +418,7 @@ paper_tables() {
             if (!(k in seen)) { seen[k] = 1; order[++nk] = k; nodes[k] = $4 }
             t[k, meth, st] = $(c["t_total_ms"]); ok[k, meth, st] = $(c["status"])
             if (st > maxst[k]) maxst[k] = st
-            if (meth == "augmented") {
+            if (meth == AL) {
                 if (st == 0) { nnz[k] = $(c["nnz_L"]); tf[k] = $(c["t_factor_ms"]); ndof[k] = $(c["n_dofs"]) }
                 if ($(c["m"]) + 0 > mm[k]) mm[k] = $(c["m"]) + 0
                 if ($(c["iters"]) + 0 > it[k]) it[k] = $(c["iters"]) + 0
@@ -410,15 +428,15 @@ paper_tables() {
         }
         function sortv(a, n,   i, j, x) { for (i = 2; i <= n; i++) { x = a[i]; for (j = i - 1; j >= 1 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x } }
         END {
-            print "case", "nodes", "dofs", "nnz_L", "factor_ms", "steps", "aug_ms_median", "aug_ms_max",
+            if (hdr) print "case", "variant", "nodes", "dofs", "nnz_L", "factor_ms", "steps_total", "steps_aug_ok", "aug_ms_median", "aug_ms_max",
                   "refactor_ms_median", "pcg_ms_median", "refactor_over_aug_median", "refactor_over_aug_min",
                   "pcg_over_aug_median", "pcg_over_aug_min", "pcg_steps_failed", "pcg_steps_faster_than_aug",
                   "m_max", "gmres_iters_max", "closure_max", "aug_rel_residual_max"
             for (q = 1; q <= nk; q++) {
                 k = order[q]; split(k, kk, SUBSEP); na = nr = np = nra = npa = 0; pf = 0; pw = 0; lb = ""
                 for (st = 1; st <= maxst[k]; st++) {
-                    if (ok[k, "augmented", st] != "ok") continue
-                    a = t[k, "augmented", st]; A[++na] = a
+                    if (ok[k, AL, st] != "ok") continue
+                    a = t[k, AL, st]; A[++na] = a
                     if (ok[k, "refactor", st] == "ok") { Rr[++nr] = t[k, "refactor", st]; RA[++nra] = t[k, "refactor", st] / a }
                     if ((k SUBSEP "pcg-jacobi" SUBSEP st) in ok) {
                         if (ok[k, "pcg-jacobi", st] == "ok") { P[++np] = t[k, "pcg-jacobi", st]; PA[++npa] = t[k, "pcg-jacobi", st] / a; if (t[k, "pcg-jacobi", st] < a) pw++ }
@@ -426,14 +444,17 @@ paper_tables() {
                     }
                 }
                 sortv(A, na); sortv(Rr, nr); sortv(P, np); sortv(RA, nra); sortv(PA, npa)
-                printf "%s-%s-%s\t%s\t%s\t%.0f\t%.1f\t%d\t", kk[1], kk[2], kk[3], nodes[k], ndof[k], nnz[k], tf[k], na
-                printf "%.2f\t%.2f\t%s\t%s\t", A[int((na + 1) / 2)], A[na], nr ? sprintf("%.2f", Rr[int((nr + 1) / 2)]) : "NaN", np ? sprintf("%.2f", P[int((np + 1) / 2)]) : "NaN"
+                if (!((k SUBSEP AL SUBSEP 0) in ok)) continue
+                printf "%s-%s-%s\t%s\t%s\t%s\t%.0f\t%.1f\t%d\t%d\t", kk[1], kk[2], kk[3], AL, nodes[k], ndof[k], nnz[k], tf[k], maxst[k], na
+                printf "%s\t%s\t%s\t%s\t", na ? sprintf("%.2f", A[int((na + 1) / 2)]) : "NaN", na ? sprintf("%.2f", A[na]) : "NaN", nr ? sprintf("%.2f", Rr[int((nr + 1) / 2)]) : "NaN", np ? sprintf("%.2f", P[int((np + 1) / 2)]) : "NaN"
                 printf "%s\t%s\t", nra ? sprintf("%.1f", RA[int((nra + 1) / 2)]) : "NaN", nra ? sprintf("%.1f", RA[1]) : "NaN"
                 printf "%s\t%s\t%d\t%d\t", npa ? lb sprintf("%.1f", PA[int((npa + 1) / 2)]) : "NaN", npa ? sprintf("%.2f", PA[1]) : "NaN", pf, pw
                 printf "%d\t%d\t%d\t%.1e\n", mm[k], it[k], cl[k], rr[k]
                 delete A; delete Rr; delete P; delete RA; delete PA
             }
-        }' "$S" >"$D/headline.tsv"
+        }' "$S"
+    hdr=0
+    done >"$D/headline.tsv"
     # per-step detail of the headline cases
     awk -F'\t' -v OFS='\t' -v hb="$HEAD_BEAM" '
         NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
@@ -442,9 +463,9 @@ paper_tables() {
             t[k, st, $(c["method"])] = $(c["t_total_ms"]) ($(c["status"]) == "ok" ? "" : "(" $(c["status"]) ")")
             if ($(c["method"]) == "augmented") { mm[k, st] = $(c["m"]); it[k, st] = $(c["iters"]); cl[k, st] = $(c["closure_max"]) }
         }
-        END { print "case", "step", "m", "gmres_iters", "closure_max", "augmented_ms", "refactor_ms", "pcg_jacobi_ms", "cg_ms"
+        END { print "case", "step", "m", "gmres_iters", "closure_max", "augmented_ms", "augmented_tol1e-8_ms", "refactor_ms", "pcg_jacobi_ms", "cg_ms"
             for (i = 1; i <= n; i++) { split(rows[i], r, SUBSEP); k = r[1]; st = r[2]
-                print k, st, mm[k, st], it[k, st], cl[k, st], t[k, st, "augmented"], t[k, st, "refactor"], t[k, st, "pcg-jacobi"], t[k, st, "cg"] } }' \
+                print k, st, mm[k, st], it[k, st], cl[k, st], t[k, st, "augmented"], t[k, st, "augmented@1e-8"], t[k, st, "refactor"], t[k, st, "pcg-jacobi"], t[k, st, "cg"] } }' \
         "$S" >"$D/headline-steps.tsv"
     # the step at which the cumulative update time of the augmented method equals one
     # factorization (the median refactor step: assembly, analysis, factorization, solve)
@@ -613,6 +634,11 @@ part_ordering() {
             msh=$MESHES/$model-$ord.msh ed=$EDITS/$model-$ord.edits
             mesh "$scene" "$msh" --ordering $ord || continue
             cut_edits "$plan" "$msh" "$ed" || continue
+            # the quick mode runs the eye's first 4 steps (its step time grows with m)
+            if [ "$FULL" != 1 ] && [ "$model" = eye ]; then
+                truncate_edits "$ed" "$EDITS/$model-$ord-4.edits" 4
+                ed=$EDITS/$model-$ord-4.edits
+            fi
             log "  $model $ord"
             run "ord-solves-$model-$ord" "$T_RUN" "$B/bench_solves" "$msh" "$scene" --set "$set" \
                 --sample 20 --spread 0 --reps 3 --tag "$model-$ord"
@@ -736,8 +762,15 @@ part_tradeoff() {
             [ $o = 2 ] && ordopt=(--ordering metis)
             mesh "$scene" "$msh" --order $o "${ordopt[@]}" || continue
             cut_edits "$PL/lri-paired-60.yaml" "$msh" "$EDITS/lri-eye-p$o-s$sc.edits" || continue
-            log "  P$o eye, mesh sizes x $sc: refactor"
+            log "  P$o eye, mesh sizes x $sc: refactor (all steps)"
             trade_run "res-p$o-s$sc" "$msh" "$EDITS/lri-eye-p$o-s$sc.edits" "$scene" --method refactor
+            local red=$EDITS/lri-eye-p$o-s$sc.edits
+            if [ "$FULL" != 1 ]; then
+                truncate_edits "$red" "$EDITS/lri-eye-p$o-s$sc-$nst.edits" $nst
+                red=$EDITS/lri-eye-p$o-s$sc-$nst.edits
+            fi
+            log "  P$o eye, mesh sizes x $sc: augmented, defaults, --verify"
+            trade_run "res-p$o-s$sc-aug" "$msh" "$red" "$scene" --verify --verify-tol 1e300
         done
     done
     trade_tables "$D"
@@ -754,11 +787,13 @@ trade_tables() {
     printf 'setting\tnodes\texit\tsteps\tstep_ms_median\tstep_ms_mean\tgmres_iters_max\tverify_rel_diff_max\trel_residual_max\tflattening_D\tcoupling_ratio\tflattening_err_D\tcoupling_err\treference\n' >"$D/tradeoff.tsv"
     # the most resolved run of the resolution study: the last P2 one, else the last P1 one
     local best
-    best=$(awk -F'\t' '$1 ~ /^res-p2/ && $3 == 0 && $4 == 0 { b = $1 } END { print b }' "$TR.runs")
-    [ -n "$best" ] || best=$(awk -F'\t' '$1 ~ /^res-p1/ && $3 == 0 && $4 == 0 { b = $1 } END { print b }' "$TR.runs")
+    best=$(awk -F'\t' '$1 ~ /^res-p2/ && $1 !~ /-aug$/ && $3 == 0 && $4 == 0 { b = $1 } END { print b }' "$TR.runs")
+    [ -n "$best" ] || best=$(awk -F'\t' '$1 ~ /^res-p1/ && $1 !~ /-aug$/ && $3 == 0 && $4 == 0 { b = $1 } END { print b }' "$TR.runs")
     while IFS=$'\t' read -r name nodes rc crc opts; do
         run=$RUNS/tr-$name
-        case $name in res-*) ref=$best ;; *) ref=ref-p1 ;; esac
+        # exact runs of the resolution study against the most resolved one; augmented runs
+        # against the exact run on their own mesh
+        case $name in res-*-aug) ref=${name%-aug} ;; res-*) ref=$best ;; *) ref=ref-p1 ;; esac
         local st="" cv="" cr=""
         [ -s "$run/steps.tsv" ] && st=$(awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
             $(c["step"]) + 0 >= 1 { n++; t[n] = $(c["t_total_ms"]); s += t[n]
@@ -812,14 +847,14 @@ stab_case() {
     name="st-$cs-${par//[^A-Za-z0-9.+-]/_}"
     log "  $cs $par"
     local cond="NaN	NaN	NaN	NaN"
-    if run "$name-cond" "$T_RUN" "$B/bench_cond" "$msh" "$scene" --tag "$name"; then
+    if run "$name-cond" "$T_STAB" "$B/bench_cond" "$msh" "$scene" --tag "$name"; then
         cond=$(awk -F'\t' 'NR == 2 { printf "%s\t%s\t%s\t%s", $7, $3, $9, $10 }' "$LOGS/$name-cond.out")
     fi
     rm -rf "${RUNS:?}/$name"
-    run "$name" "$T_RUN" "$B/augsolve" "$msh" "$ed" -o "$RUNS/$name" --scene "$scene" --no-vtk -q "$@"
+    run "$name" "$T_STAB" "$B/augsolve" "$msh" "$ed" -o "$RUNS/$name" --scene "$scene" --no-vtk -q "$@"
     local rc=$? msg
     msg=$(grep -v '^$' "$LOGS/$name.err" | tail -n 1 | tr '\t' ' ' | cut -c1-160)
-    run "$name-verify" "$T_RUN" "$B/bench_steps" "$msh" "$ed" --scene "$scene" --verify --keep-going \
+    run "$name-verify" "$T_STAB" "$B/bench_steps" "$msh" "$ed" --scene "$scene" --verify --keep-going \
         --budget "$BUDGET_CG" "$@"
     local ver
     ver=$(awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
@@ -891,7 +926,7 @@ part_stability() {
         local pl=$SCN/cut-brick-8-$tag.yaml
         derive "$PL/cut-brick-8.yaml" "$pl" -e "s|^scene: .*|scene: $PL/brick-8.yaml|" \
             -e "s|^  point: .*|  point: [0.53 mm, 0 mm, 0 mm]|" -e "s|^  normal: .*|  normal: [$nrm]|" \
-            -e "/^  pull_surface:/d" -e "\$a snap:\n  fraction: $fr\n  min_quality: $mq"
+            -e "\$a snap:\n  fraction: $fr\n  min_quality: $mq" -e "/^  pull_surface:/d"
         if run "cut-brick-8-$tag" "$T_MESH" "$B/cutplan" "$pl" "$MESHES/brick-8.msh" -o "$EDITS/cut-brick-8-$tag.edits" \
             --mesh-out "$MESHES/brick-8-$tag.msh" -q; then
             stab_case slivers-brick-8 "$tag" "$MESHES/brick-8-$tag.msh" "$EDITS/cut-brick-8-$tag.edits" "$PL/brick-8.yaml"
@@ -969,6 +1004,15 @@ main() {
     log "results in $R; parts: $ONLY; $([ "$FULL" = 1 ] && echo full || { [ "$SMOKE" = 1 ] && echo smoke || echo quick; }) mode; build $B"
     [ -f "$R/ledger.tsv" ] || printf 'time\tname\texit\twall_s\tcpu_s\tpeak_mb\tcommand\n' >"$R/ledger.tsv"
     for p in $ONLY; do
+        if [ "$REPLOT" = 1 ]; then
+            # tables and plots again from the TSVs a previous run left
+            case $p in
+                paper) paper_tables "$R/paper"; paper_plots "$R/paper" ;;
+                tradeoff) TR=$R/tradeoff/tradeoff; [ -s "$TR.runs" ] && trade_tables "$R/tradeoff" ;;
+                *) log "  --replot: part $p builds its table while it runs; nothing to redo" ;;
+            esac
+            continue
+        fi
         machine "$p"
         log "== part $p"
         t=$(now)

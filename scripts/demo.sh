@@ -7,11 +7,17 @@
 # It prints the pre-operative K, K at every step, flattening, steepening, coupling ratio and SIA
 # (curvature), and the per-step solve times (augsolve's steps.tsv); RUN_DIR (default run/demo)
 # keeps the mesh, the step VTKs, surface-NNNN.vtk and the axial power maps axial-NNNN.png.
-# Environment: KT_BUILD, the build folder with the tools (default build).
+# It first installs what is missing (scripts/setup.sh) and builds (scripts/build.sh).
+# Environment: KT_BUILD, the build folder with the tools (default build); KT_NO_BUILD=1 skips
+# set-up and build (for tests that already built).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 B=${KT_BUILD:-build}
 RUN=${1:-run/demo}
+if [ -z "${KT_NO_BUILD:-}" ]; then
+    bash scripts/setup.sh
+    bash scripts/build.sh "$B"
+fi
 for tool in mesh-prep cutplan augsolve curvature; do
     [ -x "$B/$tool" ] || { echo "demo: $B/$tool not built (bash scripts/build.sh $B)" >&2; exit 2; }
 done

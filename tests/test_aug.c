@@ -3,7 +3,7 @@
  * without a re-factorization swap; equilibrium of reactions and loads; the baselines. */
 #include <stdio.h>
 
-#include "aug_scenario.h"
+#include "test_aug_scenario.h"
 #include "kt_test.h"
 
 enum { CUTS = 1, FIXES = 2, BOTH = 3 };

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <unistd.h>
 
-#include "aug_scenario.h"
+#include "test_aug_scenario.h"
 #include "kt_test.h"
 
 /* Current resident set size in kB (Linux /proc/self/statm). */

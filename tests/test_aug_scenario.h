@@ -1,7 +1,7 @@
-/* aug_scenario.h: beam and brick problems and generators of edit steps (cuts along a plane,
+/* test_aug_scenario.h: beam and brick problems and generators of edit steps (cuts along a plane,
  * nonzero Dirichlet constraints, forces) shared by the augmented-solver tests. */
-#ifndef AUG_SCENARIO_H
-#define AUG_SCENARIO_H
+#ifndef TEST_AUG_SCENARIO_H
+#define TEST_AUG_SCENARIO_H
 
 #include <math.h>
 #include <stdlib.h>
