@@ -10,7 +10,7 @@ void kt_aug_opts_default(kt_aug_opts *o)
 {
     memset(o, 0, sizeof *o);
     o->method = KT_AUG_AUGMENTED;
-    o->precond = KT_AUG_PRECOND_SPAI;
+    o->precond = KT_AUG_PRECOND_LOCAL;
     o->ordering = KT_AUG_ORDER_NATURAL;
     o->factor = KT_AUG_FACTOR_SUPERNODAL;
     o->tol = 1e-10;
@@ -37,8 +37,8 @@ const char *kt_aug_method_name(int m) { return m >= 1 && m <= 4 ? METHODS[m] : "
 
 int kt_aug_parse_precond(const char *s, int *p)
 {
-    static const char *const names[] = {"none", "diag", "spai"};
-    return word(s, names, 3, p);
+    static const char *const names[] = {"none", "diag", "spai", "local"};
+    return word(s, names, 4, p);
 }
 
 int kt_aug_parse_ordering(const char *s, int *o)

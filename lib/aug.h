@@ -27,7 +27,7 @@
 #include "mesh.h"
 
 enum { KT_AUG_AUGMENTED = 1, KT_AUG_REFACTOR, KT_AUG_CG, KT_AUG_PCG_JACOBI };
-enum { KT_AUG_PRECOND_NONE = 0, KT_AUG_PRECOND_DIAG, KT_AUG_PRECOND_SPAI };
+enum { KT_AUG_PRECOND_NONE = 0, KT_AUG_PRECOND_DIAG, KT_AUG_PRECOND_SPAI, KT_AUG_PRECOND_LOCAL };
 enum { KT_AUG_ORDER_NATURAL = 0, KT_AUG_ORDER_AMD, KT_AUG_ORDER_METIS };
 enum { KT_AUG_FACTOR_SUPERNODAL = 0, KT_AUG_FACTOR_SIMPLICIAL };
 enum { KT_AUG_REFACTOR_NEVER = 0, KT_AUG_REFACTOR_M_ABOVE, KT_AUG_REFACTOR_EVERY,
@@ -51,7 +51,7 @@ typedef struct kt_aug_opts {
     int quiet;
 } kt_aug_opts;
 
-/* tol 1e-10, restart 200, natural ordering, supernodal, spai, refactor never, verify-tol 1e-8. */
+/* tol 1e-10, restart 200, natural ordering, supernodal, local, refactor never, verify-tol 1e-8. */
 void kt_aug_opts_default(kt_aug_opts *o);
 
 /* Option words of the tool; 0 on success, -1 for a word not in the list. */

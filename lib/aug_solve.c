@@ -89,6 +89,9 @@ typedef struct klu_pre {
     int m;
     int *Mp, *Mi;
     double *Mx;
+    int nw;             /* local: the window's size; M is T_WW there */
+    int *Rp, *Ri;       /* local: R_WL, nw x m CSC, applied before the KLU solve */
+    double *Rx, *t;     /* and nw values of scratch */
 } klu_pre;
 
 static void klu_pre_free(klu_pre *P)
@@ -98,6 +101,10 @@ static void klu_pre_free(klu_pre *P)
     free(P->Mp);
     free(P->Mi);
     free(P->Mx);
+    free(P->Rp);
+    free(P->Ri);
+    free(P->Rx);
+    free(P->t);
 }
 
 /* S(r, l) of the approximate inverse (identity on the padding). */
@@ -151,18 +158,104 @@ static int build_m(kt_aug *A, klu_pre *P, kt_err *e)
     return KT_OK;
 }
 
+/* The local preconditioner. With T the current matrix (R with the Lset columns replaced by J),
+ * S^-1 = H T^-1 R H^T exactly; M^-1 replaces T by its block T_WW on a window W around the cut:
+ * Lset and the rows of J (one layer of DOFs more), everything outside W held at zero. So
+ * M^-1 x = first m entries of T_WW^-1 (R_WL x). T_WW (columns Lset from J, the others from R)
+ * is factored by KLU; R_WL (R on the padding of new DOFs) is kept for the product. */
+static int window(kt_aug *A, int **pos_out, int *nw, kt_err *e)
+{
+    int n = 3 * A->mesh.nn, n0 = A->base->n0;
+    int *pos = kt_calloc((size_t)n, sizeof(int), e);
+    *pos_out = pos;
+    *nw = 0;
+    if (!pos) return e->code;
+    for (int i = 0; i < n; i++) pos[i] = A->Lpos[i];
+    int w = A->m;
+    for (int q = 0; q < A->njpat; q++) {
+        int i = A->Jpat[q];
+        if (pos[i] < 0 && i < n0 && !A->base->B[i]) pos[i] = w++;
+    }
+    *nw = w;
+    return KT_OK;
+}
+
+static int build_local(kt_aug *A, klu_pre *P, kt_err *e)
+{
+    int m = A->m, n0 = A->base->n0, nw = 0, *pos = NULL;
+    if (window(A, &pos, &nw, e)) return e->code;
+    const cholmod_sparse *R = A->base->R;
+    const int *Rp = R->p, *Ri = R->i;
+    const double *Rx = R->x;
+    int *wdof = kt_calloc((size_t)nw + 1, sizeof(int), e);
+    if (!wdof) {
+        free(pos);
+        return e->code;
+    }
+    for (int i = 0; i < 3 * A->mesh.nn; i++)
+        if (pos[i] >= 0) wdof[pos[i]] = i;
+    size_t capt = 0, capr = 0;
+    for (int k = 0; k < nw; k++) {
+        int j = wdof[k];
+        size_t rc = j < n0 ? (size_t)(Rp[j + 1] - Rp[j]) : 1;
+        capt += k < m ? (size_t)A->J[k].n : rc;
+        if (k < m) capr += rc;
+    }
+    P->nw = nw;
+    P->Mp = kt_calloc((size_t)nw + 1, sizeof(int), e);
+    P->Mi = kt_calloc(capt ? capt : 1, sizeof(int), e);
+    P->Mx = kt_calloc(capt ? capt : 1, sizeof(double), e);
+    P->Rp = kt_calloc((size_t)m + 1, sizeof(int), e);
+    P->Ri = kt_calloc(capr ? capr : 1, sizeof(int), e);
+    P->Rx = kt_calloc(capr ? capr : 1, sizeof(double), e);
+    P->t = kt_calloc((size_t)nw, sizeof(double), e);
+    int nz = 0, nr = 0;
+    for (int k = 0; k < nw && !e->code; k++) {
+        int j = wdof[k];
+        if (k < m) {
+            for (int p = 0; p < A->J[k].n; p++) {
+                int row = pos[A->J[k].i[p]];
+                if (row < 0) continue;
+                P->Mi[nz] = row;
+                P->Mx[nz++] = A->J[k].x[p];
+            }
+        }
+        /* column j of R restricted to W: into T_WW off Lset, into R_WL on Lset */
+        int *ci = k < m ? P->Ri : P->Mi, *cnt = k < m ? &nr : &nz;
+        double *cx = k < m ? P->Rx : P->Mx;
+        if (j >= n0) {
+            ci[*cnt] = k;
+            cx[(*cnt)++] = aug_padv(A, j);
+        } else {
+            for (int p = Rp[j]; p < Rp[j + 1]; p++) {
+                int row = pos[Ri[p]];
+                if (row < 0) continue;
+                ci[*cnt] = row;
+                cx[(*cnt)++] = Rx[p];
+            }
+        }
+        P->Mp[k + 1] = nz;
+        if (k < m) P->Rp[k + 1] = nr;
+    }
+    free(pos);
+    free(wdof);
+    return e->code;
+}
+
 static int klu_setup(kt_aug *A, klu_pre *P, kt_err *e)
 {
     memset(P, 0, sizeof *P);
     P->m = A->m;
     klu_defaults(&P->kc);
-    if (build_m(A, P, e)) return e->code;
-    P->sym = klu_analyze(P->m, P->Mp, P->Mi, &P->kc);
+    if (A->o.precond == KT_AUG_PRECOND_LOCAL ? build_local(A, P, e) : build_m(A, P, e))
+        return e->code;
+    P->sym = klu_analyze(P->Rp ? P->nw : P->m, P->Mp, P->Mi, &P->kc);
     if (P->sym) P->num = klu_factor(P->Mp, P->Mi, P->Mx, P->sym, &P->kc);
     if (!P->sym || !P->num) {
         kt_log(A->o.quiet, "augsolve: step %d: the %s preconditioner is singular (KLU status %d);"
                " GMRES runs without it\n", A->step,
-               A->o.precond == KT_AUG_PRECOND_DIAG ? "diag" : "spai", P->kc.status);
+               A->o.precond == KT_AUG_PRECOND_DIAG ? "diag" :
+               A->o.precond == KT_AUG_PRECOND_SPAI ? "spai" : "local", P->kc.status);
         klu_pre_free(P);
         memset(P, 0, sizeof *P);
     }
@@ -172,9 +265,17 @@ static int klu_setup(kt_aug *A, klu_pre *P, kt_err *e)
 static int klu_apply(void *ctx, const double *x, double *y, kt_err *e)
 {
     klu_pre *P = ctx;
-    memcpy(y, x, sizeof(double) * P->m);
-    if (!klu_solve(P->sym, P->num, P->m, 1, y, &P->kc))
+    double *t = P->Rp ? P->t : y;
+    if (P->Rp) {
+        memset(t, 0, sizeof(double) * P->nw);
+        for (int k = 0; k < P->m; k++)
+            for (int p = P->Rp[k]; p < P->Rp[k + 1]; p++) t[P->Ri[p]] += P->Rx[p] * x[k];
+    } else {
+        memcpy(y, x, sizeof(double) * P->m);
+    }
+    if (!klu_solve(P->sym, P->num, P->Rp ? P->nw : P->m, 1, t, &P->kc))
         return kt_fail(e, KT_ERUN, "KLU solve failed (status %d)", P->kc.status);
+    if (P->Rp) memcpy(y, t, sizeof(double) * P->m);
     return KT_OK;
 }
 

@@ -33,7 +33,7 @@ typedef struct eye_build {
     int *surf_group;   /* surface entity tag -> surface group tag (0: interface) */
     int nring_piece;   /* ring faces kept after the fragment */
     int aux[4], naux;  /* construction points (centres) to delete once the solids exist */
-    double h_cornea, h_optical; /* sizes after the two-elements-through-the-thickness cap */
+    double h_cornea, h_optical; /* sizes after the through-the-thickness rule (kt_eye_sizes) */
 } eye_build;
 
 static void gm(eye_build *b, int ierr) { if (ierr) b->ierr = 1; }
@@ -661,19 +661,30 @@ static int mesh_model(eye_build *b, int order, int quiet, kt_err *e)
     return KT_OK;
 }
 
-/* At least two elements through the corneal thickness: a thin shell in bending with a single
- * tet layer is far too stiff. Cornea and optical-zone sizes are capped at t_central / 2.5: at
- * t_central / 2 gmsh still left ~20 tets touching both surfaces on the default eye, at / 2.5
- * none (measured on plans/eye.yaml). */
-#define CORNEA_LAYERS 2.5
-static void cap_sizes(eye_build *b, int quiet)
+/* The documented sizing rule (keratome-scene(5), eye.h): a thin shell in bending with a single
+ * linear tet through its thickness is far too stiff, so with order 1 the cornea and optical-zone
+ * sizes are at most t_central / 2.5 (at t_central / 2 gmsh still left ~20 tets touching both
+ * surfaces of the default eye, at / 2.5 none). A 10-node tet represents bending through the
+ * thickness on its own: with order 2 they are at most t_central. */
+#define CORNEA_LAYERS_P1 2.5
+#define CORNEA_LAYERS_P2 1.0
+
+double kt_eye_layers(int order) { return order == 2 ? CORNEA_LAYERS_P2 : CORNEA_LAYERS_P1; }
+
+void kt_eye_sizes(const kt_eye *eye, int order, double *h_cornea, double *h_optical)
 {
-    double cap = b->eye->t_central / CORNEA_LAYERS;
-    b->h_cornea = fmin(b->eye->h_cornea, cap);
-    b->h_optical = fmin(b->eye->h_optical, cap);
+    double cap = eye->t_central / kt_eye_layers(order);
+    *h_cornea = fmin(eye->h_cornea, cap);
+    *h_optical = fmin(eye->h_optical, cap);
+}
+
+static void cap_sizes(eye_build *b, int order, int quiet)
+{
+    kt_eye_sizes(b->eye, order, &b->h_cornea, &b->h_optical);
     if (b->h_cornea < b->eye->h_cornea || b->h_optical < b->eye->h_optical)
-        kt_log(quiet, "eye: cornea element size capped at %.3g mm (central thickness / %g) so "
-               "that at least two elements span the cornea\n", cap, CORNEA_LAYERS);
+        kt_log(quiet, "eye: cornea/optical-zone element size reduced to %.3g mm (central thickness / %g "
+               "for order %d: keratome-scene(5), mesh_size)\n", fmin(b->h_cornea, b->h_optical),
+               kt_eye_layers(order), order);
 }
 
 static int validate_rings(eye_build *b, kt_err *e)
@@ -694,7 +705,7 @@ int kt_eye_mesh(const kt_eye *eye, int order, int quiet, kt_mesh *m, kt_err *e)
     if (order != 1 && order != 2)
         return kt_fail(e, KT_EINPUT, "eye: element order %d (expected 1 or 2)", order);
     if (kt_eye_geom_init(eye, &b.g, e) || validate_rings(&b, e)) return e->code;
-    cap_sizes(&b, quiet);
+    cap_sizes(&b, order, quiet);
     int ierr = 0, rc;
     gmshInitialize(0, NULL, 0, &ierr);
     if (ierr) return kt_fail(e, KT_ERUN, "eye: gmsh failed to initialise");

@@ -25,6 +25,13 @@
  * ring outside the cornea and limbus, deeper than the local thickness). */
 int kt_eye_mesh(const kt_eye *eye, int order, int quiet, kt_mesh *m, kt_err *e);
 
+/* The cornea and optical-zone element sizes the mesher uses at an element order: the scene's,
+ * at most t_central / 2.5 for order 1 (two linear tets or more through the corneal thickness)
+ * and t_central for order 2 (keratome-scene(5), mesh_size). */
+void kt_eye_sizes(const kt_eye *eye, int order, double *h_cornea, double *h_optical);
+/* The divisor of that rule: 2.5 for order 1, 1 for order 2. */
+double kt_eye_layers(int order);
+
 /* Undeformed geometry, for tools that place incisions and fits: the anterior surface height
  * z at (x, y), and the corneal thickness at radial distance r (mm) from the axis. */
 double kt_eye_anterior_z(const kt_eye *eye, double x, double y);

@@ -10,6 +10,7 @@
 #include "fem.h"
 #include "grid.h"
 #include "msh.h"
+#include "refgeom.h"
 
 #define PI 3.14159265358979323846
 
@@ -317,6 +318,20 @@ static int surfaces_nodes(const kt_scene *s, const kt_mesh *m, int **nodes, int 
     return KT_OK;
 }
 
+static double meridian_distance(const kt_mesh *m, int v, double centre);
+
+/* Eye: keep only the nodes within ordering.sector of the centre meridian or its opposite (a
+ * smaller set last means a smaller dense root block of L; the cut arcs lie inside it). */
+static int keep_sector(const kt_scene *s, const kt_mesh *m, int *nodes, int *count)
+{
+    if (s->model != KT_MODEL_EYE || isnan(s->ordering_centre) || isnan(s->ordering_sector)) return 0;
+    int u = 0;
+    for (int k = 0; k < *count; k++)
+        if (meridian_distance(m, nodes[k], s->ordering_centre) <= s->ordering_sector) nodes[u++] = nodes[k];
+    *count = u;
+    return 0;
+}
+
 int kt_prep_set(const kt_scene *s, const kt_mesh *m, int **nodes, int *count, char *label, kt_err *e)
 {
     *nodes = NULL;
@@ -326,17 +341,22 @@ int kt_prep_set(const kt_scene *s, const kt_mesh *m, int **nodes, int *count, ch
         return KT_OK;
     }
     char what[96];
-    if (surfaces_nodes(s, m, nodes, count, what, e) || grow(m, s->ordering_halo, nodes, count, e)) {
+    if (surfaces_nodes(s, m, nodes, count, what, e) || keep_sector(s, m, *nodes, count) ||
+        grow(m, s->ordering_halo, nodes, count, e)) {
         free(*nodes);
         *nodes = NULL;
         *count = 0;
         return e->code;
     }
+    char sec[96] = "";
+    if (s->model == KT_MODEL_EYE && !isnan(s->ordering_centre) && !isnan(s->ordering_sector))
+        snprintf(sec, sizeof sec, " within %g deg of meridian %g and its opposite", s->ordering_sector,
+                 s->ordering_centre);
     if (s->ordering_halo)
-        snprintf(label, 160, "%s and %d layer%s of tet neighbours (ordering.halo)", what,
+        snprintf(label, 160, "%s%s and %d layer%s of tet neighbours (ordering.halo)", what, sec,
                  s->ordering_halo, s->ordering_halo > 1 ? "s" : "");
     else
-        snprintf(label, 160, "%s", what);
+        snprintf(label, 160, "%s%s", what, sec);
     return KT_OK;
 }
 
@@ -417,11 +437,48 @@ typedef struct run_info {
     const kt_scene *s;
     int order, chosen, nfixed, nset, nsector;
     const char *set_label;
-    double t_mesh, t_write, t_total;
+    double t_mesh, t_ref, t_write, t_total;
+    int unloaded;           /* the stress-free geometry was computed */
+    kt_refgeom_opts ro;
+    kt_refgeom_stats rs;
     kt_quality q;
     int nrow;
     kt_prep_row row[6];
 } run_info;
+
+/* The eye's element sizes as meshed: the cornea and optical-zone ones follow the rule of
+ * kt_eye_sizes, and a reduction is said, not hidden. */
+static void print_sizes(FILE *f, const run_info *r)
+{
+    if (r->s->model != KT_MODEL_EYE) return;
+    const kt_eye *eye = &r->s->eye;
+    double hc, ho;
+    kt_eye_sizes(eye, r->order, &hc, &ho);
+    fprintf(f, "sizes        optical zone %g mm, incision %g mm, cornea %g mm, sclera %g mm\n", ho,
+            eye->h_incision, hc, eye->h_sclera);
+    if (hc < eye->h_cornea || ho < eye->h_optical)
+        fprintf(f, "             (eye.mesh_size asks for optical zone %g mm, cornea %g mm: element order %d "
+                   "allows at most %.3g mm, central_thickness/%g)\n", eye->h_optical, eye->h_cornea, r->order,
+                eye->t_central / kt_eye_layers(r->order), kt_eye_layers(r->order));
+}
+
+/* What the written coordinates are: the stress-free shape computed from the measured one, or
+ * the scene's geometry as it is. */
+static void print_reference(FILE *f, const run_info *r)
+{
+    if (r->unloaded) {
+        fprintf(f, "reference    stress-free shape that the loads deform into the scene's (measured) geometry\n"
+                   "             (loads.reference: loaded): %d solves, residual max |X0 + u(X0) - X_measured| = %.3g um\n"
+                   "             (tolerance %.3g um; %.3g um with the measured shape taken as stress-free),\n"
+                   "             nodes moved up to %.1f um (%.2f s)\n",
+                r->rs.iters, 1000 * r->rs.residual, 1000 * r->ro.tol, 1000 * r->rs.initial, 1000 * r->rs.shift,
+                r->t_ref);
+    } else if (r->s->reference == KT_REFERENCE_UNLOADED) {
+        fprintf(f, "reference    the scene's geometry, taken as stress-free (loads.reference: unloaded)\n");
+    } else {
+        fprintf(f, "reference    the scene's geometry (no loads: it is stress-free)\n");
+    }
+}
 
 static void print_summary(FILE *f, const kt_mesh *m, const run_info *r)
 {
@@ -429,6 +486,8 @@ static void print_summary(FILE *f, const kt_mesh *m, const run_info *r)
     fprintf(f, "mesh         %d nodes, %d tets, %d surface triangles (%.2f s)\n", m->nn, m->ne, m->nf, r->t_mesh);
     print_groups(f, m, 3);
     print_groups(f, m, 2);
+    print_sizes(f, r);
+    print_reference(f, r);
     fprintf(f, "quality      dihedral angle min %.2f deg, max %.2f deg; radius ratio 3r_in/r_circ min %.3f (tet %d), mean %.3f\n",
             r->q.dihedral_min, r->q.dihedral_max, r->q.ratio_min, r->q.worst + 1, r->q.ratio_mean);
     fprintf(f, "dofs         %d, of which %d fixed (identity rows in the analysis)\n", 3 * m->nn, r->nfixed);
@@ -505,18 +564,32 @@ static int compare_orderings(const kt_mesh *m, const unsigned char *fixed, const
     return e->code;
 }
 
+/* The geometry is the measured shape under the loads: replace it by the stress-free one. */
+static int unload(const kt_prep_opts *o, const kt_scene *s, run_info *r, kt_mesh *m, kt_err *e)
+{
+    if (s->reference != KT_REFERENCE_LOADED) return KT_OK;
+    double t0 = kt_now();
+    kt_refgeom_opts_default(s, &r->ro);
+    r->ro.quiet = o->quiet;
+    if (kt_refgeom_unload(s, m, &r->ro, &r->rs, e)) return e->code;
+    r->unloaded = r->rs.iters > 0;
+    r->t_ref = kt_now() - t0;
+    return kt_mesh_check(m, "stress-free geometry", e);
+}
+
 static int run_mesh(const kt_prep_opts *o, const kt_scene *s, run_info *r, kt_mesh *m, FILE *summary, kt_err *e)
 {
     double t0 = kt_now();
     if (kt_prep_build(s, r->order, o->quiet, m, e)) return e->code;
     r->t_mesh = kt_now() - t0;
     if (kt_mesh_check(m, o->scene, e)) return e->code;
-    kt_prep_quality(m, &r->q);
     unsigned char *fixed = kt_calloc(3 * (size_t)m->nn, 1, e);
     int *set = NULL, *rank = NULL, *sector = NULL, *perm = kt_calloc((size_t)m->nn, sizeof(int), e);
     char label[160];
-    if (!fixed || !perm || check_scene_on_mesh(s, m, fixed, e) ||
-        kt_prep_set(s, m, &set, &r->nset, label, e) ||
+    if (!fixed || !perm || check_scene_on_mesh(s, m, fixed, e) || unload(o, s, r, m, e))
+        goto done;
+    kt_prep_quality(m, &r->q);
+    if (kt_prep_set(s, m, &set, &r->nset, label, e) ||
         kt_prep_set_ranks(s, m, set, r->nset, &rank, e) ||
         sector_nodes(s, m, set, r->nset, &sector, &r->nsector, e))
         goto done;

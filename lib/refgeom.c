@@ -1,4 +1,16 @@
-/* refgeom.c: stress-free reference geometry by fixed-point iteration X0 <- Xm - u(X0). */
+/* refgeom.c: stress-free reference geometry: solve X + u(X) = Xm for X by Anderson-accelerated
+ * fixed-point iteration on g(X) = Xm - u(X).
+ *
+ * Why not the plain iteration X <- Xm - u(X): on the default eye (cornea 0.3 MPa, limbus
+ * 1 MPa, nu 0.49) it diverges: the residual falls from 387 um to 142 um, then grows without
+ * bound (measured on a 27k-node P2 eye; damping by 0.5 diverges too, so du/dX has an
+ * eigenvalue below -1). Anderson acceleration (Walker & Ni 2011, SIAM J Numer Anal 49:1715),
+ * a multisecant quasi-Newton method, solves the same equation through such modes: 1 um in
+ * about 10 solves, 0.01 um in about 20 on that eye.
+ *
+ * Each solve is K(X) u = f(X) by conjugate gradients preconditioned with a CHOLMOD factor of
+ * an earlier K (a few iterations, since X moves by a fraction of a millimetre); when CG slows
+ * down the current K is factored again, on the same symbolic analysis. */
 #include "refgeom.h"
 
 #include <cholmod.h>
@@ -8,14 +20,57 @@
 
 #include "fem.h"
 
-#define DEFAULT_TOL 1e-5  /* mm: 0.01 um, about 0.003 D of K on a 3 mm zone */
-#define DEFAULT_MAXIT 25
+#define DEFAULT_TOL 1e-4   /* mm (0.1 um): K within about 0.005 D on a 3 mm zone */
+#define DEFAULT_MAXIT 40
+#define AA_MEMORY 10       /* Anderson history: 10 beat 3 and 6 on the eye (fewest solves) */
+#define CG_TOL 1e-11       /* relative residual of each solve */
+#define CG_REFACTOR 25     /* CG iterations before the current K is factored afresh */
 
 void kt_refgeom_opts_default(const kt_scene *s, kt_refgeom_opts *o)
 {
     o->tol = s && s->reference_tol > 0 ? s->reference_tol : DEFAULT_TOL;
     o->maxit = DEFAULT_MAXIT;
     o->quiet = 0;
+}
+
+/* ---- the elastic problem on the current coordinates ---------------------------------------- */
+
+typedef struct problem {
+    const kt_scene *s;
+    const kt_mesh *m;
+    size_t n;                   /* DOFs */
+    kt_materials mats;
+    unsigned char *fixed;
+    double *g;
+    int lift;                   /* some prescribed value is not zero */
+    cholmod_common c;
+    cholmod_factor *L;          /* factor of K at an earlier iterate (preconditioner) */
+    int factors, cg_iters;      /* work done, for the log */
+} problem;
+
+static int problem_init(problem *p, const kt_scene *s, const kt_mesh *m, kt_err *e)
+{
+    memset(p, 0, sizeof *p);
+    p->s = s;
+    p->m = m;
+    p->n = 3 * (size_t)m->nn;
+    cholmod_start(&p->c);
+    p->fixed = kt_calloc(p->n, 1, e);
+    p->g = kt_calloc(p->n, sizeof(double), e);
+    if (!p->fixed || !p->g || kt_scene_materials(s, m, &p->mats, e) ||
+        kt_scene_dirichlet(s, m, p->fixed, p->g, e))
+        return e->code;
+    for (size_t i = 0; i < p->n; i++) p->lift |= p->g[i] != 0;
+    return KT_OK;
+}
+
+static void problem_free(problem *p)
+{
+    cholmod_free_factor(&p->L, &p->c);
+    cholmod_finish(&p->c);
+    free(p->mats.mat);
+    free(p->fixed);
+    free(p->g);
 }
 
 /* Consistent nodal forces of every scene pressure on the mesh as it stands. */
@@ -32,52 +87,236 @@ static int pressure_load(const kt_scene *s, const kt_mesh *m, double *f, kt_err 
     return KT_OK;
 }
 
+/* K with identity rows and columns on the fixed DOFs, and f lifted to match. */
+static cholmod_sparse *assemble_system(problem *p, double *f, kt_err *e)
+{
+    if (pressure_load(p->s, p->m, f, e)) return NULL;
+    if (p->lift) {
+        cholmod_sparse *K = kt_fem_assemble(p->m, &p->mats, NULL, &p->c, e);
+        if (!K) return NULL;
+        kt_fem_lift(K, p->fixed, p->g, f, e);
+        cholmod_free_sparse(&K, &p->c);
+        if (e->code) return NULL;
+    } else {
+        for (size_t i = 0; i < p->n; i++)
+            if (p->fixed[i]) f[i] = 0;
+    }
+    return kt_fem_assemble(p->m, &p->mats, p->fixed, &p->c, e);
+}
+
+static int factor(problem *p, cholmod_sparse *K, kt_err *e)
+{
+    if (!p->L) {
+        int saved = p->c.supernodal;
+        p->c.supernodal = CHOLMOD_SUPERNODAL;
+        p->L = cholmod_analyze(K, &p->c);
+        p->c.supernodal = saved;
+        if (!p->L) return kt_fail(e, KT_ERUN, "reference: CHOLMOD analysis failed (status %d)", p->c.status);
+    }
+    p->factors++;
+    if (!cholmod_factorize(K, p->L, &p->c) || p->c.status == CHOLMOD_NOT_POSDEF ||
+        p->L->minor < p->L->n)
+        return kt_fail(e, KT_ERUN, "reference: the stiffness matrix is not positive definite "
+                       "(CHOLMOD status %d): is the body free to move rigidly?", p->c.status);
+    return KT_OK;
+}
+
+static double dot(const double *a, const double *b, size_t n)
+{
+    double s = 0;
+    for (size_t i = 0; i < n; i++) s += a[i] * b[i];
+    return s;
+}
+
+/* z = L \ r (the preconditioner). */
+static int precond(problem *p, const double *r, double *z, kt_err *e)
+{
+    cholmod_dense R = {p->n, 1, p->n, p->n, (void *)r, NULL, CHOLMOD_REAL, CHOLMOD_DOUBLE};
+    cholmod_dense *Z = cholmod_solve(CHOLMOD_A, p->L, &R, &p->c);
+    if (!Z) return kt_fail(e, KT_ERUN, "reference: CHOLMOD solve failed (status %d)", p->c.status);
+    memcpy(z, Z->x, p->n * sizeof(double));
+    cholmod_free_dense(&Z, &p->c);
+    return KT_OK;
+}
+
+/* y = K x (K symmetric, lower triangle stored). */
+static void matvec(problem *p, cholmod_sparse *K, const double *x, double *y)
+{
+    cholmod_dense X = {p->n, 1, p->n, p->n, (void *)x, NULL, CHOLMOD_REAL, CHOLMOD_DOUBLE};
+    cholmod_dense Y = {p->n, 1, p->n, p->n, y, NULL, CHOLMOD_REAL, CHOLMOD_DOUBLE};
+    double one[2] = {1, 0}, zero[2] = {0, 0};
+    cholmod_sdmult(K, 0, one, zero, &X, &Y, &p->c);
+}
+
+/* Preconditioned CG from u (the previous solution is a good start); 1 when it stalls. */
+static int pcg(problem *p, cholmod_sparse *K, const double *f, double *u, double *w, kt_err *e)
+{
+    size_t n = p->n;
+    double *r = w, *z = w + n, *d = w + 2 * n, *q = w + 3 * n;
+    matvec(p, K, u, q);
+    for (size_t i = 0; i < n; i++) r[i] = f[i] - q[i];
+    double fn = sqrt(dot(f, f, n)), rz = 0;
+    for (int it = 0; it <= CG_REFACTOR; it++) {
+        if (sqrt(dot(r, r, n)) <= CG_TOL * fn) return KT_OK;
+        if (it == CG_REFACTOR) return 1;
+        if (precond(p, r, z, e)) return e->code;
+        double rz_new = dot(r, z, n);
+        if (it == 0) memcpy(d, z, n * sizeof(double));
+        else
+            for (size_t i = 0; i < n; i++) d[i] = z[i] + rz_new / rz * d[i];
+        rz = rz_new;
+        matvec(p, K, d, q);
+        double alpha = rz / dot(d, q, n);
+        for (size_t i = 0; i < n; i++) u[i] += alpha * d[i], r[i] -= alpha * q[i];
+        p->cg_iters++;
+    }
+    return 1;
+}
+
+/* u(X) on the mesh's current coordinates; u holds the previous solution on entry. */
+static int solve(problem *p, double *u, double *f, double *w, kt_err *e)
+{
+    cholmod_sparse *K = assemble_system(p, f, e);
+    if (!K) return e->code;
+    int rc = p->L ? pcg(p, K, f, u, w, e) : 1;
+    if (rc == 1) { /* no factor yet, or CG too slow: factor this K */
+        rc = factor(p, K, e);
+        if (rc == KT_OK) rc = pcg(p, K, f, u, w, e);
+        if (rc == 1)
+            rc = kt_fail(e, KT_ERUN, "reference: the solve missed its tolerance with a fresh factor");
+    }
+    cholmod_free_sparse(&K, &p->c);
+    return rc;
+}
+
 int kt_refgeom_solve(const kt_scene *s, const kt_mesh *m, double *u, kt_err *e)
 {
-    size_t n = 3 * (size_t)m->nn;
-    kt_materials mats = {0, NULL};
-    unsigned char *fixed = kt_calloc(n, 1, e);
-    double *g = kt_calloc(n, sizeof(double), e), *f = kt_calloc(n, sizeof(double), e);
-    if (fixed && g && f && kt_scene_materials(s, m, &mats, e) == KT_OK &&
-        kt_scene_dirichlet(s, m, fixed, g, e) == KT_OK && pressure_load(s, m, f, e) == KT_OK) {
-        cholmod_common c;
-        cholmod_start(&c);
-        kt_fem_solve(m, &mats, fixed, g, f, u, &c, e);
-        cholmod_finish(&c);
+    problem p;
+    double *f = NULL, *w = NULL;
+    if (problem_init(&p, s, m, e) == KT_OK) {
+        f = kt_calloc(p.n, sizeof(double), e);
+        w = kt_calloc(4 * p.n, sizeof(double), e);
+        if (f && w) {
+            memset(u, 0, p.n * sizeof(double));
+            solve(&p, u, f, w, e);
+        }
     }
-    free(mats.mat);
-    free(fixed);
-    free(g);
     free(f);
+    free(w);
+    problem_free(&p);
     return e->code;
 }
 
-/* max |X + u - Xm| over the nodes, and the update X <- Xm - u. */
-static double residual(const double *Xm, double *X, const double *u, size_t n3, int update)
+/* ---- Anderson acceleration -------------------------------------------------------------- */
+
+typedef struct anderson {
+    size_t n;
+    int mem, k;                 /* capacity, columns held */
+    double **dF, **dG;          /* differences of residuals f = g(X) - X and of g(X) */
+    double *fprev, *gprev, *q;  /* last f and g; QR scratch (mem columns of n) */
+    int have_prev;
+} anderson;
+
+static int aa_init(anderson *a, size_t n, int mem, kt_err *e)
 {
-    double rmax = 0;
-    for (size_t i = 0; i < n3; i += 3) {
-        double r2 = 0;
-        for (int k = 0; k < 3; k++) {
-            double r = X[i + k] + u[i + k] - Xm[i + k];
-            r2 += r * r;
-        }
-        rmax = fmax(rmax, sqrt(r2));
-        if (update)
-            for (int k = 0; k < 3; k++) X[i + k] = Xm[i + k] - u[i + k];
+    memset(a, 0, sizeof *a);
+    a->n = n;
+    a->mem = mem;
+    a->dF = kt_calloc((size_t)mem, sizeof(double *), e);
+    a->dG = kt_calloc((size_t)mem, sizeof(double *), e);
+    a->fprev = kt_calloc(n, sizeof(double), e);
+    a->gprev = kt_calloc(n, sizeof(double), e);
+    a->q = kt_calloc(n * (size_t)mem, sizeof(double), e);
+    for (int j = 0; j < mem && !e->code; j++) {
+        a->dF[j] = kt_calloc(n, sizeof(double), e);
+        a->dG[j] = kt_calloc(n, sizeof(double), e);
     }
-    return rmax;
+    return e->code;
 }
 
-static double max_shift(const double *Xm, const double *X, size_t n3)
+static void aa_free(anderson *a)
 {
-    double smax = 0;
+    for (int j = 0; j < a->mem; j++) {
+        if (a->dF) free(a->dF[j]);
+        if (a->dG) free(a->dG[j]);
+    }
+    free(a->dF);
+    free(a->dG);
+    free(a->fprev);
+    free(a->gprev);
+    free(a->q);
+}
+
+/* gamma = argmin |f - dF gamma| by modified Gram-Schmidt QR; a column that is (numerically) in
+ * the span of the earlier ones gets gamma 0. */
+static void aa_lsq(anderson *a, const double *f, double *gamma)
+{
+    size_t n = a->n;
+    double R[AA_MEMORY][AA_MEMORY] = {{0}}, b[AA_MEMORY];
+    for (int j = 0; j < a->k; j++) {
+        double *qj = a->q + (size_t)j * n;
+        memcpy(qj, a->dF[j], n * sizeof(double));
+        double norm0 = sqrt(dot(qj, qj, n));
+        for (int i = 0; i < j; i++) {
+            double *qi = a->q + (size_t)i * n;
+            R[i][j] = R[i][i] > 0 ? dot(qi, qj, n) : 0;
+            for (size_t l = 0; l < n; l++) qj[l] -= R[i][j] * qi[l];
+        }
+        double nr = sqrt(dot(qj, qj, n));
+        R[j][j] = nr > 1e-10 * norm0 ? nr : 0;
+        for (size_t l = 0; l < n; l++) qj[l] = R[j][j] > 0 ? qj[l] / nr : 0;
+        b[j] = dot(qj, f, n);
+    }
+    for (int j = a->k - 1; j >= 0; j--) {
+        double t = b[j];
+        for (int i = j + 1; i < a->k; i++) t -= R[j][i] * gamma[i];
+        gamma[j] = R[j][j] > 0 ? t / R[j][j] : 0;
+    }
+}
+
+/* X_new = g - dG gamma, from g = g(X) and f = g - X. */
+static void aa_step(anderson *a, const double *g, const double *f, double *X)
+{
+    size_t n = a->n;
+    if (a->have_prev) {
+        if (a->k == a->mem) { /* drop the oldest difference */
+            double *F0 = a->dF[0], *G0 = a->dG[0];
+            memmove(a->dF, a->dF + 1, (size_t)(a->mem - 1) * sizeof(double *));
+            memmove(a->dG, a->dG + 1, (size_t)(a->mem - 1) * sizeof(double *));
+            a->dF[a->mem - 1] = F0;
+            a->dG[a->mem - 1] = G0;
+            a->k--;
+        }
+        for (size_t i = 0; i < n; i++) {
+            a->dF[a->k][i] = f[i] - a->fprev[i];
+            a->dG[a->k][i] = g[i] - a->gprev[i];
+        }
+        a->k++;
+    }
+    memcpy(a->fprev, f, n * sizeof(double));
+    memcpy(a->gprev, g, n * sizeof(double));
+    a->have_prev = 1;
+    double gamma[AA_MEMORY] = {0};
+    if (a->k) aa_lsq(a, f, gamma);
+    for (size_t i = 0; i < n; i++) {
+        double x = g[i];
+        for (int j = 0; j < a->k; j++) x -= gamma[j] * a->dG[j][i];
+        X[i] = x;
+    }
+}
+
+/* ---- the iteration ------------------------------------------------------------------------ */
+
+/* Largest node distance |a - b| over 3-vectors. */
+static double max_dist(const double *a, const double *b, size_t n3)
+{
+    double dmax = 0;
     for (size_t i = 0; i < n3; i += 3) {
         double d2 = 0;
-        for (int k = 0; k < 3; k++) d2 += (X[i + k] - Xm[i + k]) * (X[i + k] - Xm[i + k]);
-        smax = fmax(smax, sqrt(d2));
+        for (int k = 0; k < 3; k++) d2 += (a[i + k] - b[i + k]) * (a[i + k] - b[i + k]);
+        dmax = fmax(dmax, sqrt(d2));
     }
-    return smax;
+    return dmax;
 }
 
 static int has_loads(const kt_scene *s)
@@ -89,47 +328,86 @@ static int has_loads(const kt_scene *s)
     return 0;
 }
 
+typedef struct work {
+    double *Xm, *u, *f, *g, *res, *w;
+} work;
+
+static int work_init(work *w, size_t n, kt_err *e)
+{
+    w->Xm = kt_calloc(n, sizeof(double), e);
+    w->u = kt_calloc(n, sizeof(double), e);
+    w->f = kt_calloc(n, sizeof(double), e);
+    w->g = kt_calloc(n, sizeof(double), e);
+    w->res = kt_calloc(n, sizeof(double), e);
+    w->w = kt_calloc(4 * n, sizeof(double), e);
+    return e->code;
+}
+
+static void work_free(work *w)
+{
+    free(w->Xm);
+    free(w->u);
+    free(w->f);
+    free(w->g);
+    free(w->res);
+    free(w->w);
+}
+
+static int iterate(problem *p, anderson *a, work *w, kt_mesh *m, const kt_refgeom_opts *o,
+                   kt_refgeom_stats *st, kt_err *e)
+{
+    size_t n = p->n;
+    double prev = NAN;
+    for (int it = 0; it < o->maxit; it++) {
+        if (solve(p, w->u, w->f, w->w, e)) return e->code;
+        st->iters = it + 1;
+        for (size_t i = 0; i < n; i++) {
+            w->g[i] = w->Xm[i] - w->u[i];   /* g(X) */
+            w->res[i] = w->g[i] - m->xyz[i]; /* -(X + u(X) - Xm) */
+        }
+        double r = max_dist(w->g, m->xyz, n);
+        if (it == 0) st->initial = r;
+        st->rate = r / prev;
+        st->residual = r;
+        prev = r;
+        kt_log(o->quiet, "reference: solve %d: max |X0 + u(X0) - X_measured| = %.3g um (%d factor%s, %d CG iterations)\n",
+               it + 1, 1000 * r, p->factors, p->factors == 1 ? "" : "s", p->cg_iters);
+        if (r <= o->tol) return KT_OK;
+        if (!(r < 1e3 * st->initial)) break; /* runaway */
+        aa_step(a, w->g, w->res, m->xyz);
+    }
+    return 1;
+}
+
 int kt_refgeom_unload(const kt_scene *s, kt_mesh *m, const kt_refgeom_opts *o,
                       kt_refgeom_stats *st, kt_err *e)
 {
     memset(st, 0, sizeof *st);
     st->rate = NAN;
     if (!has_loads(s)) return KT_OK;
-    size_t n3 = 3 * (size_t)m->nn;
-    double *Xm = kt_calloc(n3, sizeof(double), e), *u = kt_calloc(n3, sizeof(double), e);
-    if (!Xm || !u) {
-        free(Xm);
-        free(u);
-        return e->code;
+    problem p;
+    anderson a;
+    work w;
+    memset(&a, 0, sizeof a);
+    memset(&w, 0, sizeof w);
+    int rc = problem_init(&p, s, m, e);
+    if (rc == KT_OK) rc = aa_init(&a, p.n, AA_MEMORY, e);
+    if (rc == KT_OK) rc = work_init(&w, p.n, e);
+    if (rc == KT_OK) {
+        memcpy(w.Xm, m->xyz, p.n * sizeof(double));
+        rc = iterate(&p, &a, &w, m, o, st, e);
+        if (rc == 1)
+            rc = kt_fail(e, KT_ERUN, "reference: the stress-free geometry did not converge: max "
+                         "|X0 + u(X0) - X_measured| = %.3g um after %d solves (tolerance %.3g um, "
+                         "%.3g um at the start); the loads deform the model too much for a linear "
+                         "inverse, or use loads.reference: unloaded", 1000 * st->residual,
+                         st->iters, 1000 * o->tol, 1000 * st->initial);
+        /* The reported residual is that of the geometry kept: on success the last solve's. */
+        st->shift = max_dist(w.Xm, m->xyz, p.n);
+        if (rc) memcpy(m->xyz, w.Xm, p.n * sizeof(double));
     }
-    memcpy(Xm, m->xyz, n3 * sizeof(double));
-    double prev = HUGE_VAL;
-    int done = 0;
-    for (int it = 0; it < o->maxit && !done; it++) {
-        if (kt_refgeom_solve(s, m, u, e)) break;
-        st->iters = it + 1;
-        /* The residual of the current X0; if it is not small enough, X0 <- Xm - u(X0). */
-        double r = residual(Xm, m->xyz, u, n3, 0);
-        if (it == 0) st->initial = r;
-        else st->rate = r / prev;
-        st->residual = r;
-        kt_log(o->quiet, "reference: iteration %d: max |X0 + u(X0) - X_measured| = %.3g um\n",
-               it + 1, 1000 * r);
-        if (r <= o->tol) done = 1;
-        else if (it >= 2 && !(r < prev)) break; /* not contracting: hopeless */
-        else residual(Xm, m->xyz, u, n3, 1);
-        prev = r;
-    }
-    st->shift = max_shift(Xm, m->xyz, n3);
-    if (!e->code && !done)
-        kt_fail(e, KT_ERUN, "reference: the stress-free geometry did not converge: max |X0 + u(X0) - "
-                "X_measured| = %.3g um after %d solves (tolerance %.3g um%s); the loads deform the "
-                "model too much for a linear inverse (softer material or higher pressure than it "
-                "can carry), or use loads.reference: unloaded",
-                1000 * st->residual, st->iters, 1000 * o->tol,
-                st->rate >= 1 ? ", and it grew" : "");
-    if (e->code) memcpy(m->xyz, Xm, n3 * sizeof(double));
-    free(Xm);
-    free(u);
-    return e->code;
+    aa_free(&a);
+    work_free(&w);
+    problem_free(&p);
+    return rc;
 }

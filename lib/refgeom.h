@@ -4,17 +4,18 @@
  * A clinical eye is measured in vivo, already inflated by its intraocular pressure. A linear
  * model that takes that shape as stress-free and then applies the pressure describes a
  * different, over-inflated eye. The standard remedy in corneal biomechanics (Pandolfi &
- * Manganiello 2006, Biomech Model Mechanobiol 5:237; Elsheikh & Wang 2007, J Biomech Eng;
- * Sellier 2011, Int J Eng Sci) is the inverse problem: find the stress-free shape X0 that the
- * loads deform into the measured shape Xm,
+ * Manganiello 2006, Biomech Model Mechanobiol 5:237; Elsheikh et al. 2013, Stress free
+ * configuration of the human eye, Med Eng Phys 35:211; Sellier 2011, J Fluids Struct 27:1461)
+ * is the inverse problem: find the stress-free shape X0 that the loads deform into the measured
+ * shape Xm,
  *
  *     X0 + u(X0) = Xm,         u(X) the scene's linear elastic solution on coordinates X,
  *
- * by fixed-point iteration X0 <- Xm - u(X0), starting from X0 = Xm. u depends on X only through
- * the element geometry and the pressure faces, so the map contracts by a factor of the order of
- * the strain (about 1e-2 for the eye) and a few iterations reach round-off. Every node moves:
- * P2 mid-edge nodes too, so the curved elements stay curved; fixed nodes have u = 0 and keep
- * their place. */
+ * by fixed-point iteration on X0 <- Xm - u(X0) from X0 = Xm. u depends on X through the element
+ * geometry and the pressure faces. On a soft, nearly incompressible cornea the plain iteration
+ * diverges (see refgeom.c), so it is accelerated by Anderson mixing, a multisecant quasi-Newton
+ * method: each iteration is one linear solve. Every node moves: P2 mid-edge nodes too, so curved
+ * elements stay curved; fixed nodes have u = 0 and keep their place. */
 #ifndef KT_REFGEOM_H
 #define KT_REFGEOM_H
 
@@ -23,8 +24,8 @@
 
 typedef struct kt_refgeom_opts {
     double tol;     /* stop when max |X0 + u(X0) - Xm| <= tol, mm (the scene's
-                     * loads.reference_tolerance, default 1e-5 mm = 0.01 um) */
-    int maxit;      /* solves allowed (default 25) */
+                     * loads.reference_tolerance, default 1e-4 mm = 0.1 um) */
+    int maxit;      /* solves allowed (default 40) */
     int quiet;      /* progress on stderr unless set */
 } kt_refgeom_opts;
 
@@ -36,7 +37,7 @@ typedef struct kt_refgeom_stats {
     double rate;        /* last residual / the one before: the contraction factor */
 } kt_refgeom_stats;
 
-/* tol from the scene (s may be NULL: 1e-5 mm), maxit 25. */
+/* tol from the scene (s may be NULL: 1e-4 mm), maxit 40. */
 void kt_refgeom_opts_default(const kt_scene *s, kt_refgeom_opts *o);
 
 /* u (3*nn, mm) under the scene's pressures, materials and fixation on mesh m as it stands:

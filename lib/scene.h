@@ -80,7 +80,9 @@ typedef struct kt_scene {
     int order;                  /* element order, 1 or 2 */
     int ordering;               /* KT_ORDERING_* */
     char ordering_set[KT_NAME_MAX]; /* surface group put last by the constrained ordering */
-    int ordering_halo;          /* layers of tet neighbours added to that set (default 1) */
+    int ordering_halo;          /* layers of tet neighbours added to that set (eye 2, else 1) */
+    double ordering_sector;     /* eye: only incision-ring nodes within this angle (deg) of the
+                                   centre meridian or its opposite join the set; NAN: all */
     double ordering_centre;     /* eye: the set's nodes nearest this meridian (deg, and the
                                    opposite one) are ordered last of all; NAN: no sweep */
     kt_eye eye;
@@ -94,7 +96,7 @@ typedef struct kt_scene {
     kt_fixation fix[KT_SCENE_MAX];
     int reference;              /* KT_REFERENCE_* (loads.reference; default loaded) */
     double reference_tol;       /* mm: shape tolerance of the stress-free iteration
-                                   (loads.reference_tolerance; default 1e-5 mm) */
+                                   (loads.reference_tolerance; default 1e-4 mm) */
 } kt_scene;
 
 /* Load and validate a scene file. Unknown keys, duplicate keys, wrong types, missing or

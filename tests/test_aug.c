@@ -191,6 +191,8 @@ int main(void)
     kt_aug_opts p = o;
     p.precond = KT_AUG_PRECOND_DIAG;
     run_case("beam both, diag", &beam, &p, BOTH, 16, 1e-10, 0);
+    p.precond = KT_AUG_PRECOND_SPAI;
+    run_case("brick both, spai", &brick, &p, BOTH, 12, 1e-10, 0);
     p.precond = KT_AUG_PRECOND_NONE;
     p.restart = 1000;
     run_case("brick both, no preconditioner", &brick, &p, BOTH, 12, 1e-10, 0);

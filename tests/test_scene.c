@@ -75,7 +75,8 @@ static void test_eye_plan(void)
     CHECK(s.eye.ring[0].diameter <= s.eye.wtw - s.eye.limbus_width, "ring inside the clear cornea");
     CHECK(s.ordering == KT_ORDERING_CONSTRAINED && s.ordering_set[0] == 0, "ordering %d", s.ordering);
     CHECK_NEAR(s.ordering_centre, s.eye.steep_axis, 0, "sweep from the steep meridian");
-    CHECK(s.ordering_halo == 1, "halo %d", s.ordering_halo);
+    CHECK(s.ordering_halo == 2, "halo %d", s.ordering_halo);
+    CHECK_NEAR(s.ordering_sector, 50, 0, "sector about the steep meridian");
     CHECK(s.npressure == 1 && strcmp(s.pressure[0].surface, "inner") == 0, "pressure surface");
     CHECK_NEAR(s.pressure[0].p, 15 * MMHG, 1e-12, "IOP in MPa");
     CHECK(s.nmat == 3, "materials %d", s.nmat);
