@@ -348,15 +348,13 @@ int kt_prep_set(const kt_scene *s, const kt_mesh *m, int **nodes, int *count, ch
         *count = 0;
         return e->code;
     }
-    char sec[96] = "";
-    if (s->model == KT_MODEL_EYE && !isnan(s->ordering_centre) && !isnan(s->ordering_sector))
-        snprintf(sec, sizeof sec, " within %g deg of meridian %g and its opposite", s->ordering_sector,
-                 s->ordering_centre);
-    if (s->ordering_halo)
-        snprintf(label, 160, "%s%s and %d layer%s of tet neighbours (ordering.halo)", what, sec,
+    int len = snprintf(label, 160, "%s", what);
+    if (len < 160 && s->model == KT_MODEL_EYE && !isnan(s->ordering_centre) && !isnan(s->ordering_sector))
+        len += snprintf(label + len, 160 - len, " within %g deg of meridian %g and its opposite",
+                        s->ordering_sector, s->ordering_centre);
+    if (len < 160 && s->ordering_halo)
+        snprintf(label + len, 160 - len, " and %d layer%s of tet neighbours (ordering.halo)",
                  s->ordering_halo, s->ordering_halo > 1 ? "s" : "");
-    else
-        snprintf(label, 160, "%s%s", what, sec);
     return KT_OK;
 }
 
