@@ -24,7 +24,7 @@
 
 typedef struct kt_refgeom_opts {
     double tol;     /* stop when max |X0 + u(X0) - Xm| <= tol, mm (the scene's
-                     * loads.reference_tolerance, default 1e-4 mm = 0.1 um) */
+                     * loads.reference_tolerance, default 3e-5 mm = 0.03 um) */
     int maxit;      /* solves allowed (default 40) */
     int quiet;      /* progress on stderr unless set */
 } kt_refgeom_opts;
@@ -37,7 +37,7 @@ typedef struct kt_refgeom_stats {
     double rate;        /* last residual / the one before: the contraction factor */
 } kt_refgeom_stats;
 
-/* tol from the scene (s may be NULL: 1e-4 mm), maxit 40. */
+/* tol from the scene (s may be NULL: 3e-5 mm), maxit 40. */
 void kt_refgeom_opts_default(const kt_scene *s, kt_refgeom_opts *o);
 
 /* u (3*nn, mm) under the scene's pressures, materials and fixation on mesh m as it stands:

@@ -58,7 +58,7 @@ static void scene_defaults(kt_scene *s)
     s->ordering_sector = NAN;
     s->ordering_halo = -1; /* default set once the model is known */
     s->reference = KT_REFERENCE_LOADED; /* geometry = the measured (loaded) shape */
-    s->reference_tol = 1e-4;            /* mm (0.1 um): K within about 0.005 D at 3 mm */
+    s->reference_tol = 3e-5;            /* mm (0.03 um): K within about 0.01 D at 3 mm */
 }
 
 /* Directory part of a path ("." when there is none). */

@@ -96,7 +96,7 @@ typedef struct kt_scene {
     kt_fixation fix[KT_SCENE_MAX];
     int reference;              /* KT_REFERENCE_* (loads.reference; default loaded) */
     double reference_tol;       /* mm: shape tolerance of the stress-free iteration
-                                   (loads.reference_tolerance; default 1e-4 mm) */
+                                   (loads.reference_tolerance; default 3e-5 mm) */
 } kt_scene;
 
 /* Load and validate a scene file. Unknown keys, duplicate keys, wrong types, missing or

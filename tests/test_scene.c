@@ -61,7 +61,7 @@ static void test_eye_plan(void)
     kt_err e = {0};
     CHECK(kt_scene_load("plans/eye.yaml", &s, &e) == 0, "%s", e.msg);
     if (e.code) return;
-    CHECK(s.model == KT_MODEL_EYE && s.order == 1, "model %d order %d", s.model, s.order);
+    CHECK(s.model == KT_MODEL_EYE && s.order == 2, "model %d order %d", s.model, s.order);
     /* 1.5 D with-the-rule about K 43.27 D: K = 337.5 / R. */
     CHECK_NEAR(337.5 / s.eye.r_ant_steep - 337.5 / s.eye.r_ant_flat, 1.5, 2e-3, "cylinder, D");
     CHECK_NEAR(0.5 * (337.5 / s.eye.r_ant_steep + 337.5 / s.eye.r_ant_flat), 337.5 / 7.8, 1e-3, "mean K");
