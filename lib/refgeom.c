@@ -42,7 +42,8 @@ typedef struct problem {
     size_t n;                   /* DOFs */
     kt_materials mats;
     unsigned char *fixed;
-    double *g;
+    double *g, *g_full;         /* prescribed values: lambda times the scene's, and the scene's */
+    double lambda;              /* fraction of the loads applied (continuation) */
     int lift;                   /* some prescribed value is not zero */
     cholmod_common c;
     cholmod_factor *L;          /* factor of K at an earlier iterate (preconditioner) */
@@ -56,11 +57,14 @@ static int problem_init(problem *p, const kt_scene *s, const kt_mesh *m, kt_err 
     p->m = m;
     p->n = 3 * (size_t)m->nn;
     cholmod_start(&p->c);
+    p->lambda = 1;
     p->fixed = kt_calloc(p->n, 1, e);
     p->g = kt_calloc(p->n, sizeof(double), e);
-    if (!p->fixed || !p->g || kt_scene_materials(s, m, &p->mats, e) ||
-        kt_scene_dirichlet(s, m, p->fixed, p->g, e))
+    p->g_full = kt_calloc(p->n, sizeof(double), e);
+    if (!p->fixed || !p->g || !p->g_full || kt_scene_materials(s, m, &p->mats, e) ||
+        kt_scene_dirichlet(s, m, p->fixed, p->g_full, e))
         return e->code;
+    memcpy(p->g, p->g_full, p->n * sizeof(double));
     for (size_t i = 0; i < p->n; i++) p->lift |= p->g[i] != 0;
     return KT_OK;
 }
@@ -72,10 +76,18 @@ static void problem_free(problem *p)
     free(p->mats.mat);
     free(p->fixed);
     free(p->g);
+    free(p->g_full);
 }
 
-/* Consistent nodal forces of every scene pressure on the mesh as it stands. */
-static int pressure_load(const kt_scene *s, const kt_mesh *m, double *f, kt_err *e)
+/* Apply the fraction lambda of every load (pressures and prescribed values). */
+static void set_lambda(problem *p, double lambda)
+{
+    p->lambda = lambda;
+    for (size_t i = 0; i < p->n; i++) p->g[i] = lambda * p->g_full[i];
+}
+
+/* Consistent nodal forces of lambda times every scene pressure on the mesh as it stands. */
+static int pressure_load(const kt_scene *s, const kt_mesh *m, double lambda, double *f, kt_err *e)
 {
     memset(f, 0, 3 * (size_t)m->nn * sizeof(double));
     for (int i = 0; i < s->npressure; i++) {
@@ -83,7 +95,7 @@ static int pressure_load(const kt_scene *s, const kt_mesh *m, double *f, kt_err 
         if (!g)
             return kt_fail(e, KT_EINPUT, "%s: loads.pressure: expected surface '%s' in the mesh",
                            s->path, s->pressure[i].surface);
-        if (kt_fem_pressure(m, g->tag, s->pressure[i].p, f, e)) return e->code;
+        if (kt_fem_pressure(m, g->tag, lambda * s->pressure[i].p, f, e)) return e->code;
     }
     return KT_OK;
 }
@@ -91,7 +103,7 @@ static int pressure_load(const kt_scene *s, const kt_mesh *m, double *f, kt_err 
 /* K with identity rows and columns on the fixed DOFs, and f lifted to match. */
 static cholmod_sparse *assemble_system(problem *p, double *f, kt_err *e)
 {
-    if (pressure_load(p->s, p->m, f, e)) return NULL;
+    if (pressure_load(p->s, p->m, p->lambda, f, e)) return NULL;
     if (p->lift) {
         cholmod_sparse *K = kt_fem_assemble(p->m, &p->mats, NULL, &p->c, e);
         if (!K) return NULL;
@@ -359,32 +371,44 @@ typedef struct best {
     double r;
     double *X, *g;
     int restarted;      /* restarted from this iterate already */
+    int it;             /* the solve that found it */
 } best;
 
+#define STAGNATION 10   /* solves without a new best: this attempt has failed */
+#define MAX_STAGES 4    /* continuation: the loads in at most this many stages */
+
+/* Anderson iteration from the mesh's coordinates to tolerance tol at the current lambda;
+ * 1 when it fails to get there. */
 static int iterate(problem *p, anderson *a, work *w, best *b, kt_mesh *m, const kt_refgeom_opts *o,
-                   kt_refgeom_stats *st, kt_err *e)
+                   double tol, kt_refgeom_stats *st, kt_err *e)
 {
     size_t n = p->n;
     double prev = NAN;
     b->r = HUGE_VAL;
-    for (int it = 0; it < o->maxit; it++) {
+    b->restarted = 0;
+    b->it = 0;
+    a->k = 0;
+    a->have_prev = 0;
+    for (int it = 0; it < o->maxit && it - b->it <= STAGNATION; it++) {
         if (solve(p, w->u, w->f, w->w, e)) return e->code;
-        st->iters = it + 1;
+        st->iters++;
         for (size_t i = 0; i < n; i++) {
             w->g[i] = w->Xm[i] - w->u[i];   /* g(X) */
             w->res[i] = w->g[i] - m->xyz[i]; /* -(X + u(X) - Xm) */
         }
         double r = max_dist(w->g, m->xyz, n);
-        if (it == 0) st->initial = r;
+        if (st->iters == 1) st->initial = r;
         st->rate = r / prev;
         st->residual = r;
         prev = r;
-        kt_log(o->quiet, "reference: solve %d: max |X0 + u(X0) - X_measured| = %.3g um (%d factor%s, %d CG iterations)\n",
-               it + 1, 1000 * r, p->factors, p->factors == 1 ? "" : "s", p->cg_iters);
-        if (r <= o->tol) return KT_OK;
+        kt_log(o->quiet, "reference: solve %d (%.0f%% of the loads): max |X0 + u(X0) - X_measured| = %.3g um "
+               "(%d factor%s, %d CG iterations)\n", st->iters, 100 * p->lambda, 1000 * r, p->factors,
+               p->factors == 1 ? "" : "s", p->cg_iters);
+        if (r <= tol) return KT_OK;
         if (!(r < 1e3 * st->initial)) break; /* runaway */
         if (r < b->r) {
             b->r = r;
+            b->it = it;
             b->restarted = 0;
             memcpy(b->X, m->xyz, n * sizeof(double));
             memcpy(b->g, w->g, n * sizeof(double));
@@ -404,6 +428,44 @@ static int iterate(problem *p, anderson *a, work *w, best *b, kt_mesh *m, const 
     return 1;
 }
 
+/* The loads in n stages lambda = 1/n, 2/n, ..., 1, each started from the previous stress-free
+ * shape extrapolated linearly in lambda (X0 - Xm is about proportional to the loads). */
+static int staged(problem *p, anderson *a, work *w, best *b, kt_mesh *m, const kt_refgeom_opts *o,
+                  int n, kt_refgeom_stats *st, kt_err *e)
+{
+    size_t nd = p->n;
+    memcpy(m->xyz, w->Xm, nd * sizeof(double));
+    double prev = 0;
+    for (int j = 1; j <= n; j++) {
+        double lambda = (double)j / n;
+        if (j > 1)
+            for (size_t i = 0; i < nd; i++) m->xyz[i] = w->Xm[i] + lambda / prev * (m->xyz[i] - w->Xm[i]);
+        set_lambda(p, lambda);
+        /* intermediate stages need only bring the next start close */
+        int rc = iterate(p, a, w, b, m, o, j == n ? o->tol : fmax(o->tol, 1e-3), st, e);
+        if (rc) return rc;
+        prev = lambda;
+    }
+    return KT_OK;
+}
+
+/* All the loads at once; if that fails, in 2 and then 4 stages (continuation). */
+static int continuation(problem *p, anderson *a, work *w, best *b, kt_mesh *m,
+                        const kt_refgeom_opts *o, kt_refgeom_stats *st, kt_err *e)
+{
+    double best_r = HUGE_VAL;
+    for (int n = 1; n <= MAX_STAGES; n *= 2) {
+        if (n > 1)
+            kt_log(o->quiet, "reference: no convergence with the loads in %d stage%s (best %.3g um): "
+                   "trying %d stages\n", n / 2, n / 2 > 1 ? "s" : "", 1000 * b->r, n);
+        int rc = staged(p, a, w, b, m, o, n, st, e);
+        if (rc != 1) return rc;
+        best_r = fmin(best_r, b->r);
+    }
+    b->r = best_r;
+    return 1;
+}
+
 int kt_refgeom_unload(const kt_scene *s, kt_mesh *m, const kt_refgeom_opts *o,
                       kt_refgeom_stats *st, kt_err *e)
 {
@@ -413,7 +475,7 @@ int kt_refgeom_unload(const kt_scene *s, kt_mesh *m, const kt_refgeom_opts *o,
     problem p;
     anderson a;
     work w;
-    best b = {0, NULL, NULL, 0};
+    best b = {0, NULL, NULL, 0, 0};
     memset(&a, 0, sizeof a);
     memset(&w, 0, sizeof w);
     int rc = problem_init(&p, s, m, e);
@@ -426,15 +488,15 @@ int kt_refgeom_unload(const kt_scene *s, kt_mesh *m, const kt_refgeom_opts *o,
     }
     if (rc == KT_OK) {
         memcpy(w.Xm, m->xyz, p.n * sizeof(double));
-        rc = iterate(&p, &a, &w, &b, m, o, st, e);
+        rc = continuation(&p, &a, &w, &b, m, o, st, e);
         if (rc == 1) {
             st->residual = b.r;
             rc = kt_fail(e, KT_ERUN, "reference: the stress-free geometry did not converge: max "
-                         "|X0 + u(X0) - X_measured| = %.3g um at best in %d solves (tolerance %.3g um, "
-                         "%.3g um at the start); the loads deform this linear model too much to invert "
-                         "(a softer material or a higher pressure than it can carry), or use "
-                         "loads.reference: unloaded", 1000 * b.r, st->iters, 1000 * o->tol,
-                         1000 * st->initial);
+                         "|X0 + u(X0) - X_measured| = %.3g um at best in %d solves, the loads applied in "
+                         "up to %d stages (tolerance %.3g um, %.3g um at the start); the loads deform "
+                         "this linear model too much to invert (a softer material or a higher pressure "
+                         "than it can carry), or use loads.reference: unloaded", 1000 * b.r, st->iters,
+                         MAX_STAGES, 1000 * o->tol, 1000 * st->initial);
         }
         /* The reported residual is that of the geometry kept: on success the last solve's. */
         st->shift = max_dist(w.Xm, m->xyz, p.n);

@@ -766,9 +766,10 @@ part_tradeoff() {
     done
     log "  pcg-jacobi --tol 1e-8"
     trade_run pcg-1e-8 "$MESHES/eye.msh" "$ed" "$PL/eye.yaml" --method pcg-jacobi --tol 1e-8 --verify --verify-tol 1e300
-    # (2) order and resolution: scaled mesh sizes (the default eye is P1 at scale 1)
-    local p1s="2.5 1 0.8" p2s="2.5" sc o scene msh
-    [ "$FULL" = 1 ] && p1s="2.5 1 0.8 0.65" p2s="2.5 2 1.6"
+    # (2) order and resolution: scaled mesh sizes
+    # scales of the scene's mesh sizes (the default eye is P2 at scale 1)
+    local p1s="1.6 1 0.75" p2s="1.6 1.25 1" sc o scene msh
+    [ "$FULL" = 1 ] && p1s="1.6 1 0.75 0.6" p2s="1.6 1.25 1 0.8"
     for o in 1 2; do
         local scales=$p1s
         [ $o = 2 ] && scales=$p2s
@@ -777,11 +778,7 @@ part_tradeoff() {
             scale_eye "$sc" <"$PL/eye.yaml" >"$scene.tmp" && { cmp -s "$scene.tmp" "$scene" || mv "$scene.tmp" "$scene"; }
             rm -f "$scene.tmp"
             msh=$MESHES/eye-p$o-s$sc.msh
-            # P2: METIS (the constrained ordering's dense block grows with the square of the
-            # ring's nodes, four times more with 10-node tets: mesh-prep(1))
-            local ordopt=()
-            [ $o = 2 ] && ordopt=(--ordering metis)
-            mesh "$scene" "$msh" --order $o "${ordopt[@]}" || continue
+            mesh "$scene" "$msh" --order $o || continue
             cut_edits "$PL/lri-paired-60.yaml" "$msh" "$EDITS/lri-eye-p$o-s$sc.edits" || continue
             log "  P$o eye, mesh sizes x $sc: refactor (all steps)"
             trade_run "res-p$o-s$sc" "$msh" "$EDITS/lri-eye-p$o-s$sc.edits" "$scene" --method refactor
