@@ -191,9 +191,32 @@ static int policy(kt_aug *A, kt_err *e)
     return KT_OK;
 }
 
+/* GMRES stopped above --tol: the step stands only if the whole system's backward error is what
+ * kt_fem_solve demands of a direct solve. */
+#define AUG_BACKWARD_TOL 1e-10
+
+static int check_short(kt_aug *A, double backward, kt_err *e)
+{
+    if (!(backward <= AUG_BACKWARD_TOL))
+        return kt_fail(e, KT_ERUN, "step %d: GMRES did not reach the relative residual %.3g "
+                       "(stopped at %.3g after %d iterations; m = %d) and the system's backward "
+                       "error %.3g exceeds %.0e: the answer is not accurate; use a "
+                       "preconditioner, raise --restart, or loosen --tol", A->step, A->o.tol,
+                       A->gmres_short, A->row.iters, A->m, backward, AUG_BACKWARD_TOL);
+    kt_log(A->o.quiet, "augsolve: step %d: GMRES stopped at the relative residual %.3g above --tol "
+           "%.3g (the floor rounding in the factor's solves sets); the system's backward error is "
+           "%.3g <= %.0e, as a direct solve's: accepted\n", A->step, A->gmres_short, A->o.tol,
+           backward, AUG_BACKWARD_TOL);
+    return KT_OK;
+}
+
 static int after_solve(kt_aug *A, kt_err *e)
 {
-    if (A->o.method == KT_AUG_AUGMENTED) A->row.rel_residual = aug_residual(A, e);
+    if (A->o.method == KT_AUG_AUGMENTED) {
+        double backward;
+        if (aug_residual(A, &A->row.rel_residual, &backward, e)) return e->code;
+        if (A->gmres_short > 0 && check_short(A, backward, e)) return e->code;
+    }
     if (!e->code && A->o.verify) verify(A, e);
     if (!e->code) memcpy(A->uprev, A->u, 3 * (size_t)A->mesh.nn * sizeof(double));
     return e->code;

@@ -122,6 +122,7 @@ struct kt_aug {
     aug_job *job;
     double t_since_factor;      /* s of step time since the factor in use was installed */
     int closure_max;
+    double gmres_short;         /* relative residual GMRES stopped at above --tol (0: reached) */
 
     kt_aug_row row;
     int react_valid;
@@ -170,7 +171,9 @@ double aug_padv(const kt_aug *A, int j);   /* R on the padding */
 int aug_load_d(kt_aug *A, double *w, kt_err *e); /* w += P^T fh - fh0 on A->dpat */
 void aug_unfold(const kt_aug *A, double *u);   /* u = P v in place */
 int aug_solve_augmented(kt_aug *A, kt_err *e);
-double aug_residual(kt_aug *A, kt_err *e);
+/* The residual of the system solved: relative to the right-hand side, and the backward error
+ * ||r|| / || |T||a'| + |t| || (NAN both with a restricted output). */
+int aug_residual(kt_aug *A, double *relres, double *backward, kt_err *e);
 void aug_react_from_a2(kt_aug *A);
 void aug_solve_free(kt_aug *A);
 

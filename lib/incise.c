@@ -422,6 +422,7 @@ int kt_incise_next(kt_incise *c, kt_step *s, kt_err *e)
         if (rc) return -1;
         if (s->n == 0) continue; /* an overlap that split nothing: no step */
         s->index = ++c->st.steps;
+        if (ph->kind == KT_PHASE_CUT && kt_incise_anchor_check(c, ph, s->index, e)) return -1;
         return 1;
     }
     return 0;
@@ -444,10 +445,11 @@ static int add_phases(kt_incise *c, kt_err *e)
         int rc = inc->surface[0] ? kt_incise_ring_phase(c, inc, i, ph, e)
                                  : kt_incise_cylinder_phase(c, inc, i, ph, e);
         if (rc) return e->code;
+        ph->at = inc->at;
     }
     if (p->planar.set) {
         if (kt_incise_planar_phase(c, &c->phase[c->nphase], e)) return e->code;
-        c->nphase++;
+        c->phase[c->nphase++].at = p->planar.at;
     }
     for (int i = 0; i < c->nphase; i++)
         c->st.work += c->phase[i].kind == KT_PHASE_CUT ? c->phase[i].nface : c->phase[i].nsteps;
@@ -462,7 +464,7 @@ int kt_incise_begin(kt_incise **cp, const kt_plan *p, kt_mesh *m, int quiet, kt_
     c->plan = p;
     c->m = m;
     c->quiet = quiet;
-    if (setup(c, e) || add_phases(c, e)) {
+    if (setup(c, e) || kt_incise_anchor_init(c, e) || add_phases(c, e)) {
         kt_incise_end(c);
         return e->code;
     }
@@ -483,6 +485,7 @@ void kt_incise_end(kt_incise *c)
     }
     free(c->phase);
     free(c->cur);
+    free(c->held);
     free(c->origin);
     free(c->nbr);
     free(c->cut);

@@ -21,6 +21,7 @@ enum { KT_KEY_DEG = 1, KT_KEY_MM = 2 };
 typedef struct kt_phase {
     int kind;
     char name[48];              /* "incision 1", "planar cut", "deform 2": for notes */
+    kt_mark at;                 /* where the plan gives it */
     /* a cut */
     kt_cutface *face;
     int nface, pos;
@@ -60,6 +61,8 @@ struct kt_incise {
     kt_phase *phase;
     int *s_tet, *s_loc, *s_par, *s_lab, *s_cand; /* scratch */
     int ncand, capcand;
+    unsigned char *held;        /* input node -> the scene fixes one of its DOFs */
+    int nheld;
     kt_incise_stats st;
 };
 
@@ -71,6 +74,10 @@ int kt_incise_find_face(const kt_incise *c, int a, int b, int d);
 /* Cut the faces and split the nodes they disconnect; the DUP edits go to s. */
 int kt_incise_cut(kt_incise *c, kt_phase *ph, const kt_cutface *f, int n, kt_step *s,
                   int *ndup, kt_err *e);
+/* incise_anchor.c: which input nodes the scene fixes; then, after a cut step, KT_EINPUT if a
+ * piece of the current mesh holds none of them. */
+int kt_incise_anchor_init(kt_incise *c, kt_err *e);
+int kt_incise_anchor_check(kt_incise *c, const kt_phase *ph, int step, kt_err *e);
 /* Sort a phase's faces by key (then slot). */
 void kt_incise_sort_faces(kt_phase *ph);
 

@@ -3,6 +3,7 @@
 #include "incise.h"
 
 #include <limits.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -79,7 +80,11 @@ int kt_cutplan_run(const kt_cutplan_opts *o, kt_err *e)
     const kt_incise_stats *st = kt_incise_stats_get(c);
     if (write_snapped(o, &m, st->snapped, e)) goto done;
     double t2 = kt_now();
-    if (stream(o, p, c, &m, e)) goto done;
+    /* the mesh goes first (a reader down the pipe opens it at once); a failed cut takes it back */
+    if (stream(o, p, c, &m, e)) {
+        if (o->mesh_out && strcmp(o->mesh_out, "-") != 0) remove(o->mesh_out);
+        goto done;
+    }
     kt_log(o->quiet, "cutplan: %d steps, %ld nodes duplicated, %ld faces cut, %ld constraints, "
            "%ld forces; mesh %d nodes %d tets; load %.2f s, prepare %.2f s, steps %.2f s\n",
            st->steps, st->dups, st->faces, st->fixes, st->forces, m.nn, m.ne, t1 - t0, t2 - t1,

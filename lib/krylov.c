@@ -162,7 +162,7 @@ int kt_krylov_gmres(int n, kt_krylov_op A, void *actx, kt_krylov_op M, void *mct
     int k = o->restart < 1 ? 1 : (o->restart > n ? n : o->restart);
     gmres_ws W;
     if (gmres_ws_alloc(&W, n, k, e)) return e->code;
-    double target = o->tol * bn;
+    double target = o->tol * bn, prev = HUGE_VAL;
     for (;;) {
         double beta = residual(n, A, actx, b, x, W.w, e);
         if (beta < 0) break;
@@ -172,6 +172,12 @@ int kt_krylov_gmres(int n, kt_krylov_op A, void *actx, kt_krylov_op M, void *mct
             break;
         }
         if (st->iters >= o->maxit) break;
+        /* a whole cycle that gains nothing has met the floor rounding in A sets: stop there */
+        if (beta > 0.9 * prev) {
+            st->stagnated = 1;
+            break;
+        }
+        prev = beta;
         for (int i = 0; i < n; i++) W.V[i] = W.w[i] / beta;
         int j = gmres_cycle(&W, A, actx, M, mctx, beta, target, o->maxit - st->iters, &st->iters, e);
         if (j < 0 || update_solution(&W, j, M, mctx, x, e)) break;

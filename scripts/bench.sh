@@ -21,7 +21,8 @@
 # brick, and larger eyes; --smoke checks the suite itself in minutes (tiny beams and bricks, no
 # eye, bunny or long beam); --replot redoes the tables and plots of earlier runs (paper,
 # tradeoff); --cases REGEX reruns only the solver runs whose EXP-MODEL-SIZE matches (e.g.
-# 'cut-bunny', '^lri-eye'), keeping the other rows of paper/steps.tsv. --budget S: wall seconds per baseline run (CG, Jacobi-PCG; default
+# 'cut-bunny', '^lri-eye'), keeping the other rows of paper/steps.tsv; --methods LIST (e.g.
+# refactor+metis,augmented@1e-8) only those solver labels. --budget S: wall seconds per baseline run (CG, Jacobi-PCG; default
 # 240, x4 with --full). OPENBLAS_NUM_THREADS defaults to 1 (shared 2-core machines: two
 # OpenBLAS threads on a loaded machine were 10x slower here, see tests/bench/README.md).
 set -uo pipefail
@@ -43,6 +44,7 @@ FULL=0
 SMOKE=0
 REPLOT=0
 CASES=""
+METHODS=""
 ONLY=$PARTS_ALL
 R=$ROOT/results
 BUDGET_CG=${KT_BENCH_BUDGET:-240}
@@ -52,6 +54,7 @@ while [ $# -gt 0 ]; do
         --smoke) SMOKE=1 ;;
         --replot) REPLOT=1 ;;
         --cases) CASES=$2; shift ;;
+        --methods) METHODS=" ${2//,/ } "; shift ;;
         --only) ONLY=${2//,/ }; shift ;;
         --results) R=$2; shift ;;
         --budget) BUDGET_CG=$2; shift ;;
@@ -162,10 +165,14 @@ canon_aug() {
 solve() {
     local exp=$1 model=$2 size=$3 label=$6 out=$7 name nodes rc msh=$4 ed=$5 meth
     shift 7
-    # METHOD@TOL: the method at that tolerance, labelled so in the method column
-    meth=${label%%@*}
-    [ "$meth" != "$label" ] && set -- "$@" --tol "${label#*@}"
-    name="$exp-$model-$size-${label//@/-tol}${SUFFIX:-}"
+    # METHOD[+ORDERING][@TOL]: the method with augsolve's --ordering and --tol, labelled so in
+    # the method column
+    meth=${label%%[@+]*}
+    [[ $label == *@* ]] && set -- "$@" --tol "${label#*@}"
+    if [[ $label == *+* ]]; then local o=${label#*+}; set -- "$@" --ordering "${o%%@*}"; fi
+    # --methods LIST: only these labels
+    if [ -n "$METHODS" ] && [[ $METHODS != *" $label "* ]]; then return 0; fi
+    name="$exp-$model-$size-${label//[@+]/-}${SUFFIX:-}"
     # --cases REGEX: only the runs whose EXP-MODEL-SIZE matches
     if [ -n "$CASES" ] && ! [[ "$exp-$model-$size" =~ $CASES ]]; then return 0; fi
     nodes=$(mesh_nodes "$msh")
@@ -204,7 +211,7 @@ plot() {
         # files='...': keep only series with data; no plot when none has any
         if [[ $a == files=* ]]; then
             keep=""
-            for f in $(eval "echo ${a#files=}"); do [ "$(wc -l <"$f")" -gt 1 ] && keep="$keep $f"; done
+            for f in $(eval "echo ${a#files=}"); do [ -f "$f" ] && [ "$(wc -l <"$f")" -gt 1 ] && keep="$keep $f"; done
             [ -n "$keep" ] || return 0
             a="files='${keep# }'"
         fi
@@ -360,7 +367,8 @@ part_paper() {
     mkdir -p "$D" "$F"
     if [ -n "$CASES" ] && [ -s "$S" ]; then
         # rerun only the selected cases: drop their old rows, keep the rest
-        awk -F'\t' -v re="$CASES" 'NR == 1 || ($1 "-" $2 "-" $3) !~ re' "$S" >"$S.tmp" && mv "$S.tmp" "$S"
+        awk -F'\t' -v re="$CASES" -v ms="$METHODS" 'NR == 1 || ($1 "-" $2 "-" $3) !~ re || (ms != "" && index(ms, " " $5 " ") == 0)' \
+            "$S" >"$S.tmp" && mv "$S.tmp" "$S"
     else
         printf '%s\n' "$STEPS_HEADER" >"$S"
     fi
@@ -407,6 +415,10 @@ part_paper() {
             log "  ${case[0]} ${case[1]}-${case[2]} augmented --tol $tol"
             solve "${case[@]}" "augmented@$tol" "$S"
         done
+        # what a user would otherwise run is a fresh factorization in its best ordering, not
+        # in the one chosen for the augmented method's closures
+        log "  ${case[0]} ${case[1]}-${case[2]} refactor --ordering metis"
+        solve "${case[@]}" "refactor+metis" "$S"
     done
     # the background re-factorization (policy auto: start when the update time since the last
     # factor exceeds the factor's time), against the same runs without it
@@ -450,28 +462,33 @@ paper_tables() {
         function sortv(a, n,   i, j, x) { for (i = 2; i <= n; i++) { x = a[i]; for (j = i - 1; j >= 1 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x } }
         END {
             if (hdr) print "case", "variant", "nodes", "dofs", "nnz_L", "factor_ms", "steps_total", "steps_aug_ok", "aug_ms_median", "aug_ms_max",
-                  "refactor_ms_median", "pcg_ms_median", "refactor_over_aug_median", "refactor_over_aug_min",
+                  "refactor_ms_median", "refactor_metis_ms_median", "pcg_ms_median", "refactor_over_aug_median", "refactor_over_aug_min",
+                  "refactor_metis_over_aug_median",
                   "pcg_over_aug_median", "pcg_over_aug_min", "pcg_steps_failed", "pcg_steps_faster_than_aug",
                   "m_max", "gmres_iters_max", "closure_max", "aug_rel_residual_max"
             for (q = 1; q <= nk; q++) {
-                k = order[q]; split(k, kk, SUBSEP); na = nr = np = nra = npa = 0; pf = 0; pw = 0; lb = ""
+                k = order[q]; split(k, kk, SUBSEP); na = nr = np = nra = npa = nm = nma = 0; pf = 0; pw = 0; lb = ""
                 for (st = 1; st <= maxst[k]; st++) {
+                    # the baselines over all their steps; the ratios on the steps both completed
+                    if (ok[k, "refactor", st] == "ok") Rr[++nr] = t[k, "refactor", st]
+                    if (ok[k, "refactor+metis", st] == "ok") Mr[++nm] = t[k, "refactor+metis", st]
+                    if (ok[k, "pcg-jacobi", st] == "ok") P[++np] = t[k, "pcg-jacobi", st]
+                    else if ((k SUBSEP "pcg-jacobi" SUBSEP st) in ok) pf++
                     if (ok[k, AL, st] != "ok") continue
                     a = t[k, AL, st]; A[++na] = a
-                    if (ok[k, "refactor", st] == "ok") { Rr[++nr] = t[k, "refactor", st]; RA[++nra] = t[k, "refactor", st] / a }
-                    if ((k SUBSEP "pcg-jacobi" SUBSEP st) in ok) {
-                        if (ok[k, "pcg-jacobi", st] == "ok") { P[++np] = t[k, "pcg-jacobi", st]; PA[++npa] = t[k, "pcg-jacobi", st] / a; if (t[k, "pcg-jacobi", st] < a) pw++ }
-                        else { pf++; if (ok[k, "pcg-jacobi", st] == "fail") { PA[++npa] = t[k, "pcg-jacobi", st] / a; lb = ">" } }
-                    }
+                    if (ok[k, "refactor", st] == "ok") RA[++nra] = t[k, "refactor", st] / a
+                    if (ok[k, "refactor+metis", st] == "ok") MA[++nma] = t[k, "refactor+metis", st] / a
+                    if (ok[k, "pcg-jacobi", st] == "ok") { PA[++npa] = t[k, "pcg-jacobi", st] / a; if (t[k, "pcg-jacobi", st] < a) pw++ }
+                    else if (ok[k, "pcg-jacobi", st] == "fail") { PA[++npa] = t[k, "pcg-jacobi", st] / a; lb = ">" }
                 }
-                sortv(A, na); sortv(Rr, nr); sortv(P, np); sortv(RA, nra); sortv(PA, npa)
+                sortv(A, na); sortv(Rr, nr); sortv(P, np); sortv(RA, nra); sortv(PA, npa); sortv(Mr, nm); sortv(MA, nma)
                 if (!((k SUBSEP AL SUBSEP 0) in ok)) continue
                 printf "%s-%s-%s\t%s\t%s\t%s\t%.0f\t%.1f\t%d\t%d\t", kk[1], kk[2], kk[3], AL, nodes[k], ndof[k], nnz[k], tf[k], maxst[k], na
-                printf "%s\t%s\t%s\t%s\t", na ? sprintf("%.2f", A[int((na + 1) / 2)]) : "NaN", na ? sprintf("%.2f", A[na]) : "NaN", nr ? sprintf("%.2f", Rr[int((nr + 1) / 2)]) : "NaN", np ? sprintf("%.2f", P[int((np + 1) / 2)]) : "NaN"
-                printf "%s\t%s\t", nra ? sprintf("%.1f", RA[int((nra + 1) / 2)]) : "NaN", nra ? sprintf("%.1f", RA[1]) : "NaN"
+                printf "%s\t%s\t%s\t%s\t%s\t", na ? sprintf("%.2f", A[int((na + 1) / 2)]) : "NaN", na ? sprintf("%.2f", A[na]) : "NaN", nr ? sprintf("%.2f", Rr[int((nr + 1) / 2)]) : "NaN", nm ? sprintf("%.2f", Mr[int((nm + 1) / 2)]) : "NaN", np ? sprintf("%.2f", P[int((np + 1) / 2)]) : "NaN"
+                printf "%s\t%s\t%s\t", nra ? sprintf("%.1f", RA[int((nra + 1) / 2)]) : "NaN", nra ? sprintf("%.1f", RA[1]) : "NaN", nma ? sprintf("%.2f", MA[int((nma + 1) / 2)]) : "NaN"
                 printf "%s\t%s\t%d\t%d\t", npa ? lb sprintf("%.1f", PA[int((npa + 1) / 2)]) : "NaN", npa ? sprintf("%.2f", PA[1]) : "NaN", pf, pw
                 printf "%d\t%d\t%d\t%.1e\n", mm[k], it[k], cl[k], rr[k]
-                delete A; delete Rr; delete P; delete RA; delete PA
+                delete A; delete Rr; delete P; delete RA; delete PA; delete Mr; delete MA
             }
         }' "$S"
     hdr=0
@@ -484,9 +501,9 @@ paper_tables() {
             t[k, st, $(c["method"])] = $(c["t_total_ms"]) ($(c["status"]) == "ok" ? "" : "(" $(c["status"]) ")")
             if ($(c["method"]) == "augmented") { mm[k, st] = $(c["m"]); it[k, st] = $(c["iters"]); cl[k, st] = $(c["closure_max"]) }
         }
-        END { print "case", "step", "m", "gmres_iters", "closure_max", "augmented_ms", "augmented_tol1e-8_ms", "augmented_tol1e-4_ms", "refactor_ms", "pcg_jacobi_ms", "cg_ms"
+        END { print "case", "step", "m", "gmres_iters", "closure_max", "augmented_ms", "augmented_tol1e-8_ms", "augmented_tol1e-4_ms", "refactor_ms", "refactor_metis_ms", "pcg_jacobi_ms", "cg_ms"
             for (i = 1; i <= n; i++) { split(rows[i], r, SUBSEP); k = r[1]; st = r[2]
-                print k, st, mm[k, st], it[k, st], cl[k, st], t[k, st, "augmented"], t[k, st, "augmented@1e-8"], t[k, st, "augmented@1e-4"], t[k, st, "refactor"], t[k, st, "pcg-jacobi"], t[k, st, "cg"] } }' \
+                print k, st, mm[k, st], it[k, st], cl[k, st], t[k, st, "augmented"], t[k, st, "augmented@1e-8"], t[k, st, "augmented@1e-4"], t[k, st, "refactor"], t[k, st, "refactor+metis"], t[k, st, "pcg-jacobi"], t[k, st, "cg"] } }' \
         "$S" >"$D/headline-steps.tsv"
     # the step at which the cumulative update time of the augmented method equals one
     # factorization (the median refactor step: assembly, analysis, factorization, solve)

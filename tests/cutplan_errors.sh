@@ -78,6 +78,14 @@ p=$(plan quality "$beam" 'planar_cut: {point: [0 mm, 2.2 mm, 0 mm], normal: [0, 
 snap: {min_quality: 0.99}
 ')
 expect 1 "quality of tet" "$p" --mesh-out "$tmp/out.edits.msh"
+# a cut right through the beam severs its free end: refused, at the plan's planar_cut (2)
+p=$(plan sever "$beam" 'planar_cut: {point: [0 mm, 0 mm, 8 mm], normal: [0, 0, 1], advance: [0, -1, 0],
+             nodes_per_step: 5}
+')
+expect 2 "^cutplan: $p:2:13: planar cut: step 4 cuts off a piece of 200 nodes .*float free" "$p"
+rm -f "$tmp/sever.msh"
+"$bin" -q "$tmp/sever.yaml" "$tmp/beam.msh" -o "$tmp/out.edits" --mesh-out "$tmp/sever.msh" 2>/dev/null
+[ -e "$tmp/sever.msh" ] && { echo "FAILED: a refused cut left its --mesh-out behind"; fail=1; }
 # with --mesh-out the snapped cut runs and writes the mesh the edits apply to
 rm -f "$tmp/snapped.msh"
 if ! "$bin" -q "$tmp/snap.yaml" "$tmp/beam.msh" -o "$tmp/snap.edits" --mesh-out "$tmp/snapped.msh"; then
