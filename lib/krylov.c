@@ -148,6 +148,12 @@ static int gmres_cycle(gmres_ws *W, kt_krylov_op A, void *actx, kt_krylov_op M, 
     return j;
 }
 
+/* GMRES gives up when the true residual has not fallen 10% below its best for this many restart
+ * cycles and iterations (near the floor the cycles are short: the recurrence claims convergence
+ * that the true residual does not show, yet a few more cycles may still get there) */
+#define STALL_CYCLES 5
+#define STALL_ITERS 50
+
 int kt_krylov_gmres(int n, kt_krylov_op A, void *actx, kt_krylov_op M, void *mctx,
                     const double *b, double *x, const kt_krylov_opts *o, kt_krylov_stats *st,
                     kt_err *e)
@@ -162,7 +168,8 @@ int kt_krylov_gmres(int n, kt_krylov_op A, void *actx, kt_krylov_op M, void *mct
     int k = o->restart < 1 ? 1 : (o->restart > n ? n : o->restart);
     gmres_ws W;
     if (gmres_ws_alloc(&W, n, k, e)) return e->code;
-    double target = o->tol * bn, prev = HUGE_VAL;
+    double target = o->tol * bn, best = HUGE_VAL;
+    int cycles_since = 0, iters_best = 0;
     for (;;) {
         double beta = residual(n, A, actx, b, x, W.w, e);
         if (beta < 0) break;
@@ -172,12 +179,15 @@ int kt_krylov_gmres(int n, kt_krylov_op A, void *actx, kt_krylov_op M, void *mct
             break;
         }
         if (st->iters >= o->maxit) break;
-        /* a whole cycle that gains nothing has met the floor rounding in A sets: stop there */
-        if (beta > 0.9 * prev) {
+        /* no 10% gain over several cycles and iterations: the floor rounding in A sets */
+        if (beta < 0.9 * best) {
+            best = beta;
+            cycles_since = 0;
+            iters_best = st->iters;
+        } else if (++cycles_since >= STALL_CYCLES && st->iters - iters_best >= STALL_ITERS) {
             st->stagnated = 1;
             break;
         }
-        prev = beta;
         for (int i = 0; i < n; i++) W.V[i] = W.w[i] / beta;
         int j = gmres_cycle(&W, A, actx, M, mctx, beta, target, o->maxit - st->iters, &st->iters, e);
         if (j < 0 || update_solution(&W, j, M, mctx, x, e)) break;

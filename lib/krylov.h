@@ -18,7 +18,7 @@ typedef struct kt_krylov_stats {
     int iters;      /* iterations done (operator applications, not counting residual checks) */
     double relres;  /* final ||b - A x|| / ||b||, recomputed from A at the end */
     int converged;
-    int stagnated;  /* stopped early: a restart cycle cut the true residual by less than 10% */
+    int stagnated;  /* stopped early: no 10% gain in 5 restart cycles and 50 iterations */
 } kt_krylov_stats;
 
 /* Solve A x = b by restarted GMRES with right preconditioning: A M^-1 y = b, x = M^-1 y.
