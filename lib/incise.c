@@ -141,7 +141,7 @@ static int setup(kt_incise *c, kt_err *e)
 
 /* ---- splitting ---- */
 
-static int uf_find(int *par, int a)
+int kt_incise_uf_find(int *par, int a)
 {
     while (par[a] != a) a = par[a] = par[par[a]];
     return a;
@@ -195,7 +195,7 @@ static int move_component(kt_incise *c, int v, int n, int r, kt_step *s, kt_err 
         return e->code;
     }
     for (int i = 0; i < n; i++)
-        if (uf_find(c->s_par, i) == r) {
+        if (kt_incise_uf_find(c->s_par, i) == r) {
             el[nel++] = c->s_tet[i];
             c->cur[(size_t)c->s_tet[i] * c->nv + c->s_loc[i]] = w;
         }
@@ -231,23 +231,23 @@ static int split_node(kt_incise *c, int v, kt_step *s, int *nsplit, kt_err *e)
             }
             if (c->nbr[slot] < 0) continue;
             int k = star_index(c, n, c->nbr[slot] / 4);
-            if (k >= 0) c->s_par[uf_find(c->s_par, i)] = uf_find(c->s_par, k);
+            if (k >= 0) c->s_par[kt_incise_uf_find(c->s_par, i)] = kt_incise_uf_find(c->s_par, k);
         }
     }
     /* label of each root: the union of its tets' labels */
     for (int i = 0; i < n; i++) {
-        int r = uf_find(c->s_par, i);
+        int r = kt_incise_uf_find(c->s_par, i);
         if (r != i) c->s_lab[r] |= c->s_lab[i];
     }
     int keep = -1, best = 99;
     static const int RANK[4] = {1, 0, 3, 2}; /* prefer stay side, then unlabelled, conflict, move */
     for (int i = 0; i < n; i++)
-        if (uf_find(c->s_par, i) == i && RANK[c->s_lab[i]] < best) {
+        if (kt_incise_uf_find(c->s_par, i) == i && RANK[c->s_lab[i]] < best) {
             best = RANK[c->s_lab[i]];
             keep = i;
         }
     for (int i = 0; i < n; i++) {
-        if (uf_find(c->s_par, i) != i || i == keep || c->s_lab[i] == 0) continue;
+        if (kt_incise_uf_find(c->s_par, i) != i || i == keep || c->s_lab[i] == 0) continue;
         if (move_component(c, v, n, i, s, e)) return e->code;
         (*nsplit)++;
     }

@@ -20,15 +20,6 @@ int kt_incise_anchor_init(kt_incise *c, kt_err *e)
     return e->code;
 }
 
-static int root(int *par, int a)
-{
-    while (par[a] != a) {
-        par[a] = par[par[a]];
-        a = par[a];
-    }
-    return a;
-}
-
 int kt_incise_anchor_check(kt_incise *c, const kt_phase *ph, int step, kt_err *e)
 {
     if (c->nheld == 0) return KT_OK; /* nothing is fixed anywhere: augsolve reports that */
@@ -40,19 +31,19 @@ int kt_incise_anchor_check(kt_incise *c, const kt_phase *ph, int step, kt_err *e
     for (int v = 0; v < nn; v++) par[v] = v;
     for (int t = 0; t < ne; t++) {
         const int *tv = c->cur + (size_t)t * nv;
-        int a = root(par, tv[0]);
+        int a = kt_incise_uf_find(par, tv[0]);
         for (int l = 1; l < nv; l++) {
-            int b = root(par, tv[l]);
+            int b = kt_incise_uf_find(par, tv[l]);
             if (b != a) par[b] = a;
         }
     }
     for (int v = 0; v < nn; v++) {
-        int r = root(par, v);
+        int r = kt_incise_uf_find(par, v);
         count[r]++;
         ok[r] |= c->held[c->origin[v]];
     }
     for (int v = 0; v < nn; v++) {
-        int r = root(par, v);
+        int r = kt_incise_uf_find(par, v);
         if (ok[r]) continue;
         const double *x = c->m->xyz + 3 * (size_t)c->origin[v];
         kt_fail(e, KT_EINPUT, "%s:%d:%d: %s: step %d cuts off a piece of %d nodes (node %d at "

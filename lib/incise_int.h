@@ -74,6 +74,8 @@ int kt_incise_find_face(const kt_incise *c, int a, int b, int d);
 /* Cut the faces and split the nodes they disconnect; the DUP edits go to s. */
 int kt_incise_cut(kt_incise *c, kt_phase *ph, const kt_cutface *f, int n, kt_step *s,
                   int *ndup, kt_err *e);
+/* The root of a in the union-find forest par (with path halving). */
+int kt_incise_uf_find(int *par, int a);
 /* incise_anchor.c: which input nodes the scene fixes; then, after a cut step, KT_EINPUT if a
  * piece of the current mesh holds none of them. */
 int kt_incise_anchor_init(kt_incise *c, kt_err *e);
