@@ -30,10 +30,19 @@ static int word(const char *s, const char *const *names, int n, int *v)
     return -1;
 }
 
-static const char *const METHODS[] = {NULL, "augmented", "refactor", "cg", "pcg-jacobi"};
+static const char *const METHODS[] = {NULL, "augmented", "refactor", "cg", "pcg-jacobi", "planned"};
 
-int kt_aug_parse_method(const char *s, int *m) { return word(s, METHODS, 5, m); }
-const char *kt_aug_method_name(int m) { return m >= 1 && m <= 4 ? METHODS[m] : "?"; }
+int kt_aug_parse_method(const char *s, int *m) { return word(s, METHODS, 6, m); }
+const char *kt_aug_method_name(int m) { return m >= 1 && m <= 5 ? METHODS[m] : "?"; }
+
+void kt_aug_run_opts_default(kt_aug_run_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->vtk = 1;
+    kt_aug_opts_default(&o->aug);
+    o->aug.method = KT_AUG_PLANNED;
+    o->aug.ordering = KT_AUG_ORDER_DEFAULT;
+}
 
 int kt_aug_parse_precond(const char *s, int *p)
 {

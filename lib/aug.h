@@ -26,9 +26,12 @@
 #include "fem.h"
 #include "mesh.h"
 
-enum { KT_AUG_AUGMENTED = 1, KT_AUG_REFACTOR, KT_AUG_CG, KT_AUG_PCG_JACOBI };
+/* KT_AUG_PLANNED (augsolve's default, aug_plan.h) runs in kt_aug_run only: it reads the whole
+ * stream first. kt_aug_create solves a stream step by step with the other methods. */
+enum { KT_AUG_AUGMENTED = 1, KT_AUG_REFACTOR, KT_AUG_CG, KT_AUG_PCG_JACOBI, KT_AUG_PLANNED };
 enum { KT_AUG_PRECOND_NONE = 0, KT_AUG_PRECOND_DIAG, KT_AUG_PRECOND_SPAI, KT_AUG_PRECOND_LOCAL };
-enum { KT_AUG_ORDER_NATURAL = 0, KT_AUG_ORDER_AMD, KT_AUG_ORDER_METIS };
+/* KT_AUG_ORDER_DEFAULT: metis for the planned method, natural for the others */
+enum { KT_AUG_ORDER_DEFAULT = -1, KT_AUG_ORDER_NATURAL = 0, KT_AUG_ORDER_AMD, KT_AUG_ORDER_METIS };
 enum { KT_AUG_FACTOR_SUPERNODAL = 0, KT_AUG_FACTOR_SIMPLICIAL };
 enum { KT_AUG_REFACTOR_NEVER = 0, KT_AUG_REFACTOR_M_ABOVE, KT_AUG_REFACTOR_EVERY,
        KT_AUG_REFACTOR_AUTO };
@@ -121,8 +124,13 @@ typedef struct kt_aug_run_opts {
     const char *mesh, *edits, *run_dir;
     const char *scene;        /* NULL: the scene the edits header names */
     int vtk, binary;          /* write step VTKs (binary legacy format) */
+    const char *steps;        /* NULL: write every step; else a list "1,4,7-9" (step 0 always) */
     kt_aug_opts aug;
 } kt_aug_run_opts;
+
+/* The tool's defaults: kt_aug_opts_default with the planned method and its default ordering,
+ * step VTKs written. */
+void kt_aug_run_opts_default(kt_aug_run_opts *o);
 
 int kt_aug_run(const kt_aug_run_opts *o, kt_err *e);
 
