@@ -61,6 +61,9 @@ typedef struct kt_plan_factor {
     cholmod_sparse *A;          /* A_FF: the free block, lower triangle, in free positions */
     cholmod_factor *L;          /* L L^T = P A_FF P^T, P = L->Perm */
     cholmod_dense *w[2], *Y, *E;/* solve workspaces */
+    int *Tp, *Ti;               /* the trailing block L22 (columns and rows >= nK, shifted by */
+    double *Tx;                 /* nK), CSC, diagonal first: the increments' forward solve */
+    double *y0, *bK0;           /* L^-1 P [bK0; 0] and the intact rows bK0 it was made from */
     int nlift;                  /* A(i, j) with i or j constrained, both orientations: */
     int *lrow, *lcol;           /* variables */
     double *lval;

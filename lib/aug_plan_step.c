@@ -113,14 +113,57 @@ static int solve_sys(kt_plan_factor *F, int sys, cholmod_dense *in, cholmod_dens
     return KT_OK;
 }
 
-/* x = A_k^-1 b on the first N free positions, 0 after: P, L on the whole factor, the rows of
- * the unreleased increments zeroed, L^T (D L^T for LDL^T), P^T. t[0..1]: forward, back (s). */
-static int substitute(kt_plan_factor *F, int N, double *b, double *x, double *t, kt_err *e)
+/* y = L^-1 P b: when the intact rows of b are those the stored y0 was made from, only the
+ * increments' rows change: y = y0 + [0; L22^-1 b_I] (L22 unit-diagonal for LDL^T), computed
+ * on the first N rows only. Else a full forward solve (the first one stores y0). */
+static int forward(kt_plan_factor *F, int N, double *b, int shortcut, kt_err *e)
 {
-    double t0 = kt_now();
+    int nK = F->nK;
+    if (!F->w[1] && !(F->w[1] = cholmod_zeros(F->nfree, 1, CHOLMOD_REAL, &F->c)))
+        return kt_fail(e, KT_ERUN, "CHOLMOD out of memory");
+    double *y = F->w[1]->x;
+    if (shortcut && F->y0 && memcmp(b, F->bK0, (size_t)nK * sizeof(double)) == 0) {
+        memcpy(y, F->y0, (size_t)N * sizeof(double));
+        double *z = y + nK;
+        const double *bI = b + nK;
+        int unit = !F->L->is_ll;
+        for (int j = 0; j < N - nK; j++) z[j] = 0;
+        for (int j = 0; j < N - nK; j++) {
+            int p0 = F->Tp[j], p1 = F->Tp[j + 1];
+            double zj = (z[j] + bI[j]) / (unit ? 1.0 : F->Tx[p0]);
+            for (int p = p0 + 1; p < p1; p++)
+                if (F->Ti[p] < N - nK) z[F->Ti[p]] -= F->Tx[p] * zj;
+            z[j] = zj;
+        }
+        for (int j = 0; j < N - nK; j++) z[j] += F->y0[nK + j];
+        return KT_OK;
+    }
     cholmod_dense B = wrap(b, F->nfree);
+    if (shortcut && !F->y0) { /* the first right-hand side: keep L^-1 P [b_K; 0] */
+        F->y0 = kt_calloc((size_t)F->nfree, sizeof(double), e);
+        F->bK0 = kt_calloc((size_t)nK ? (size_t)nK : 1, sizeof(double), e);
+        if (e->code) return e->code;
+        memcpy(F->y0, b, (size_t)nK * sizeof(double));
+        memcpy(F->bK0, b, (size_t)nK * sizeof(double));
+        cholmod_dense B0 = wrap(F->y0, F->nfree);
+        if (solve_sys(F, CHOLMOD_P, &B0, &F->w[0], e) || solve_sys(F, CHOLMOD_L, F->w[0], &F->w[1], e))
+            return e->code;
+        memcpy(F->y0, F->w[1]->x, (size_t)F->nfree * sizeof(double));
+        return forward(F, N, b, shortcut, e);
+    }
     if (solve_sys(F, CHOLMOD_P, &B, &F->w[0], e) || solve_sys(F, CHOLMOD_L, F->w[0], &F->w[1], e))
         return e->code;
+    return KT_OK;
+}
+
+/* x = A_k^-1 b on the first N free positions, 0 after: forward, the rows of the unreleased
+ * increments zeroed, L^T (D L^T for LDL^T), P^T. t[0..1] += forward, back (s); t[2] counts the
+ * forward solves that took the increments-only path. */
+static int substitute(kt_plan_factor *F, int N, double *b, double *x, int shortcut, double *t,
+                      kt_err *e)
+{
+    double t0 = kt_now();
+    if (forward(F, N, b, shortcut, e)) return e->code;
     double *y = F->w[1]->x;
     memset(y + N, 0, (size_t)(F->nfree - N) * sizeof(double)); /* P keeps them in place */
     double t1 = kt_now();
@@ -193,13 +236,13 @@ int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
     if (loads(s, prob, e)) return e->code;
     rhs(s, p, F);
     double t1 = kt_now();
-    if (substitute(F, N, s->b, s->x, ts, e)) return e->code;
+    if (substitute(F, N, s->b, s->x, 1, ts, e)) return e->code;
     double t2 = kt_now(), backward;
     double rel = residual(F, N, s->b, s->x, s->r, s->ax, &backward);
     s->row.iters = 0;
     if (!(backward <= tol)) { /* one step of iterative refinement */
         memset(s->r + N, 0, (size_t)(F->nfree - N) * sizeof(double));
-        if (substitute(F, N, s->r, s->ax, ts, e)) return e->code;
+        if (substitute(F, N, s->r, s->ax, 0, ts, e)) return e->code;
         for (int i = 0; i < N; i++) s->x[i] += s->ax[i];
         rel = residual(F, N, s->b, s->x, s->r, s->ax, &backward);
         s->row.iters = 1;
