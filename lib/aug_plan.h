@@ -64,6 +64,8 @@ typedef struct kt_plan_factor {
     int *Tp, *Ti;               /* the trailing block L22 (columns and rows >= nK, shifted by */
     double *Tx;                 /* nK), CSC, diagonal first: the increments' forward solve */
     double *y0, *bK0;           /* L^-1 P [bK0; 0] and the intact rows bK0 it was made from */
+    unsigned char *want;        /* NULL, or the supernodes a restricted back substitution needs */
+    int want_cols;              /* their columns */
     int nlift;                  /* A(i, j) with i or j constrained, both orientations: */
     int *lrow, *lcol;           /* variables */
     double *lval;
@@ -74,6 +76,14 @@ typedef struct kt_plan_factor {
 int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
                          const kt_materials *mats, int ordering, int factor, kt_err *e);
 void kt_plan_factor_free(kt_plan_factor *F);
+
+/* Restricted output (aug_plan_out.c): from now on the back substitution computes only what
+ * the DOFs of the marked nodes of the final mesh (nodes, p->nn) need: the supernodes on their
+ * paths to the roots of the supernodal tree. A simplicial factor keeps the full one. Then a
+ * step's u is valid on the marked nodes only and it computes no residual and no reactions. */
+int kt_plan_factor_restrict(kt_plan_factor *F, const kt_plan *p, const unsigned char *nodes,
+                            kt_err *e);
+void kt_plan_back_restricted(const kt_plan_factor *F, double *y);
 
 /* The cut mesh as the steps go, its loads and the field. Owner: kt_plan_state_init / _free. */
 typedef struct kt_plan_state {

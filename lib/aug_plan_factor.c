@@ -30,6 +30,7 @@ void kt_plan_factor_free(kt_plan_factor *F)
     free(F->Tx);
     free(F->y0);
     free(F->bK0);
+    free(F->want);
     memset(F, 0, sizeof *F);
 }
 

@@ -167,10 +167,16 @@ static int substitute(kt_plan_factor *F, int N, double *b, double *x, int shortc
     double *y = F->w[1]->x;
     memset(y + N, 0, (size_t)(F->nfree - N) * sizeof(double)); /* P keeps them in place */
     double t1 = kt_now();
-    if (solve_sys(F, F->L->is_ll ? CHOLMOD_Lt : CHOLMOD_DLt, F->w[1], &F->w[0], e) ||
-        solve_sys(F, CHOLMOD_Pt, F->w[0], &F->w[1], e))
-        return e->code;
-    memcpy(x, F->w[1]->x, (size_t)F->nfree * sizeof(double));
+    if (F->want) { /* restricted output */
+        kt_plan_back_restricted(F, y);
+        const int *Perm = F->L->Perm;
+        for (int q = 0; q < F->nfree; q++) x[Perm[q]] = y[q];
+    } else {
+        if (solve_sys(F, F->L->is_ll ? CHOLMOD_Lt : CHOLMOD_DLt, F->w[1], &F->w[0], e) ||
+            solve_sys(F, CHOLMOD_Pt, F->w[0], &F->w[1], e))
+            return e->code;
+        memcpy(x, F->w[1]->x, (size_t)F->nfree * sizeof(double));
+    }
     t[0] += t1 - t0;
     t[1] += kt_now() - t1;
     return KT_OK;
@@ -232,13 +238,14 @@ int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
                   const kt_aug_problem *prob, double tol, kt_err *e)
 {
     double t0 = kt_now(), ts[2] = {0, 0};
+    kt_aug_row *w = &s->row;
     int N = F->nfree_at[s->step];
     if (loads(s, prob, e)) return e->code;
     rhs(s, p, F);
     double t1 = kt_now();
     if (substitute(F, N, s->b, s->x, 1, ts, e)) return e->code;
-    double t2 = kt_now(), backward;
-    double rel = residual(F, N, s->b, s->x, s->r, s->ax, &backward);
+    double t2 = kt_now(), backward = 0, rel = NAN;
+    if (!F->want) rel = residual(F, N, s->b, s->x, s->r, s->ax, &backward);
     s->row.iters = 0;
     if (!(backward <= tol)) { /* one step of iterative refinement */
         memset(s->r + N, 0, (size_t)(F->nfree - N) * sizeof(double));
@@ -252,13 +259,12 @@ int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
                        "--tol %.3g after a step of iterative refinement", s->step, backward, tol);
     double t3 = kt_now();
     field(s, p, F);
+    w->closure_max = F->want ? F->want_cols : 0;
     double t4 = kt_now();
-    kt_aug_row *w = &s->row;
     w->step = s->step;
     w->n_dofs = 3 * s->mesh.nn;
     w->m = N - F->nK;
     w->new_dofs = s->step ? 3 * (p->nn_at[s->step] - p->nn_at[s->step - 1]) : 0;
-    w->closure_max = 0;
     w->t_update = 1e3 * (s->t_edits + t1 - t0);
     w->t_step1 = 1e3 * ts[0];
     w->t_step2 = 1e3 * (t3 - t2);

@@ -347,6 +347,26 @@ static int planned_step(run *r, const kt_aug_run_opts *o, kt_err *e)
     return KT_OK;
 }
 
+/* --output SET: the back substitution limited to what the set's nodes on the final mesh need
+ * (they and their ancestors cover the set on every step's mesh). */
+static int restrict_output(run *r, const kt_aug_run_opts *o, kt_err *e)
+{
+    if (!o->aug.output[0]) return KT_OK;
+    const kt_mesh *m = &r->final;
+    const kt_group *g = kt_mesh_find_group(m, 2, o->aug.output);
+    if (!g) return kt_fail(e, KT_EINPUT, "--output %s: expected a surface group of the mesh",
+                           o->aug.output);
+    unsigned char *nodes = kt_calloc((size_t)m->nn, 1, e);
+    if (!nodes) return e->code;
+    int fv = kt_tri_nv(m->order);
+    for (int t = 0; t < m->nf; t++)
+        if (m->tri_tag[t] == g->tag)
+            for (int a = 0; a < fv; a++) nodes[m->tri[(size_t)t * fv + a]] = 1;
+    kt_plan_factor_restrict(&r->F, &r->plan, nodes, e);
+    free(nodes);
+    return e->code;
+}
+
 /* The planned method: the whole stream, checked, one factorization, then each wanted step.
  * Returns KT_OK with r->fallback set when the plan does not allow it. */
 static int run_planned(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
@@ -362,7 +382,7 @@ static int run_planned(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
     }
     if (kt_plan_factor_build(&r->F, &r->plan, &r->final, &r->mats, o->aug.ordering, o->aug.factor,
                              e) ||
-        kt_plan_state_init(&r->S, &r->plan, &r->prob, e))
+        kt_plan_state_init(&r->S, &r->plan, &r->prob, e) || restrict_output(r, o, e))
         return e->code;
     kt_mesh_free(&r->final);
     if (o->aug.verify && !(r->ufresh = kt_calloc(3 * (size_t)r->plan.nn, sizeof(double), e)))
