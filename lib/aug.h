@@ -96,6 +96,8 @@ typedef struct kt_aug_row {
     double verify_rel_diff;   /* max |u - u_fresh| / max |u_fresh| over the output nodes */
     char refactor[32];        /* "-", "start", "swap" or "swap+start" */
     double nnz_L;             /* nonzeros of the factor used (augmented, refactor), else 0 */
+    double t_verify;          /* ms of the --verify fresh solve (assembly, analysis, factor,
+                               * solve: CHOLMOD's defaults; METIS for planned), NaN without */
 } kt_aug_row;
 
 typedef struct kt_aug kt_aug;

@@ -111,8 +111,8 @@ int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e);
  * one step of iterative refinement; still above it is KT_ERUN. */
 int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
                   const kt_aug_problem *prob, double tol, kt_err *e);
-/* Solve the current cut mesh from scratch (CHOLMOD's own defaults) into u (3 nn); t gets
- * the seconds it took. The --verify reference. */
+/* Solve the current cut mesh from scratch (assembly, METIS, factorization, solve: what a user
+ * would run instead) into u (3 nn); t gets the seconds it took. The --verify reference. */
 int kt_plan_fresh(const kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
                   double *u, double *t, kt_err *e);
 
