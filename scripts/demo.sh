@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # demo.sh [RUN_DIR]: the keratome demo. The default eye (plans/eye.yaml: 1.5 D with-the-rule
 # astigmatism) is meshed, cut with paired 60-degree limbal relaxing incisions at the steep
-# meridian (plans/lri-paired-60.yaml, 5 degrees of arc a step), solved step by step with the
-# augmented method while cutplan is still streaming its edits, and read like a topographer:
+# meridian (plans/lri-paired-60.yaml, 5 degrees of arc a step), solved step by step with
+# augsolve's planned method (the whole plan read from cutplan's pipe, one factorization of the
+# final cut mesh, every step exact by substitution), and read like a topographer:
 #   mesh-prep -> cutplan | augsolve -> curvature
 # It prints the pre-operative K, K at every step, flattening, steepening, coupling ratio and SIA
 # (curvature), and the per-step solve times (augsolve's steps.tsv); RUN_DIR (default run/demo)
@@ -35,7 +36,7 @@ echo "== curvature"
 t3=$(now)
 echo "== timings"
 awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-    { printf "step %3d  %7s dofs  m %5s  GMRES %3s it  update+solve %8.1f ms\n", $c["step"],
+    { printf "step %3d  %7s dofs  m %5s  refinement %s  update+solve %8.1f ms\n", $c["step"],
       $c["n_dofs"], $c["m"], $c["iters"], $c["t_total_ms"]; s += $c["t_total_ms"]; n++ }
     END { if (n) printf "steps: %d, %.1f ms in all, %.1f ms per step\n", n, s, s / n }' "$RUN/steps.tsv"
 awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" 'BEGIN {
