@@ -179,7 +179,7 @@ static const char *const EYE_KEYS[] = {
 /* Geometric consistency between fields; messages point at the field that breaks it. */
 static int check_eye(kt_yml *y, const yaml_node_t *n, const kt_eye *eye, kt_err *e)
 {
-    /* Geometry of lib/eye_geom.h: the cornea ends at rho = wtw/2 on the globe sphere, the
+    /* Geometry of lib/model/eye_geom.h: the cornea ends at rho = wtw/2 on the globe sphere, the
      * limbus is the band out to wtw/2 + limbus_width. Rings and the optical zone must stay
      * limbus_width/2 inside the corneal edge (in clear cornea, as LRIs are placed). */
     double clear = eye->wtw - eye->limbus_width;

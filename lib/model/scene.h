@@ -12,7 +12,7 @@
 
 enum { KT_MODEL_EYE = 1, KT_MODEL_BOX, KT_MODEL_SURFACE, KT_MODEL_IMAGE };
 /* What the scene's geometry is (loads.reference): the measured shape under the scene's loads
- * (mesh-prep then computes the stress-free shape, lib/refgeom.h), or already stress-free. */
+ * (mesh-prep then computes the stress-free shape, lib/fem/refgeom.h), or already stress-free. */
 enum { KT_REFERENCE_LOADED = 0, KT_REFERENCE_UNLOADED = 1 };
 
 

@@ -1,13 +1,13 @@
 /* curv.h: simulated keratometry of a deformed anterior corneal surface.
  *
- * Frame (lib/eye.h): optical axis +z, seen from the front x right and y up; meridian t (deg,
+ * Frame (lib/model/eye.h): optical axis +z, seen from the front x right and y up; meridian t (deg,
  * TABO: counter-clockwise from +x) is the direction (cos t, sin t). Powers use the keratometric
  * index n = 1.3375: K = (n - 1) / R = 337.5 / R(mm) dioptres.
  *
  * Pipeline per step: kt_curv_extract (anterior nodes of a step mesh, deformed) -> kt_curv_fit
  * (a surface z = f(x, y) over a central zone, apex found by the fit) -> kt_curv_simk (steep and
  * flat K, axis, cylinder from the zone-averaged axial power of each meridian) -> against step 0:
- * kt_curv_alpins (vector analysis). lib/curv_run.c drives a whole run folder. */
+ * kt_curv_alpins (vector analysis). lib/app/curvature_run.c drives a whole run folder. */
 #ifndef KT_CURV_H
 #define KT_CURV_H
 

@@ -16,7 +16,7 @@ int kt_curv_anterior_mask(const kt_mesh *m, const char *what, unsigned char **ma
     if (!g)
         return kt_fail(e, KT_EINPUT,
                        "%s: no surface group \"anterior\": expected the anterior corneal surface "
-                       "as a physical group of triangles (lib/eye.h)", what);
+                       "as a physical group of triangles (lib/model/eye.h)", what);
     int *nodes = NULL, cnt = 0;
     if (kt_mesh_group_nodes(m, g, &nodes, &cnt, e) != KT_OK) return e->code;
     if (cnt == 0) {

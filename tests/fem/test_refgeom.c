@@ -1,4 +1,4 @@
-/* test_refgeom.c: the stress-free reference geometry (lib/refgeom.h).
+/* test_refgeom.c: the stress-free reference geometry (lib/fem/refgeom.h).
  *
  * Every check of the inverse is made with an independent forward solve (kt_fem_solve, a fresh
  * CHOLMOD factorization, not refgeom's preconditioned CG): loading the stress-free mesh must give
