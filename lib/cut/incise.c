@@ -6,18 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Vertices of face j (the face opposite vertex j) and tet10 edge numbering (gmsh order). */
-
-int kt_incise_face_pos(int order, int j, int *pos)
-{
-    int n = 0;
-    for (int k = 0; k < 3; k++) pos[n++] = kt_tet_face[j][k];
-    if (order == 2)
-        for (int k = 0; k < 6; k++)
-            if (kt_tet_edge[k][0] != j && kt_tet_edge[k][1] != j) pos[n++] = 4 + k;
-    return n;
-}
-
 /* Does face j of a tet hold the node at local position l? */
 static int face_has(int j, int l)
 {
@@ -25,77 +13,7 @@ static int face_has(int j, int l)
     return kt_tet_edge[l - 4][0] != j && kt_tet_edge[l - 4][1] != j;
 }
 
-double kt_incise_theta(const double *x) { return atan2(x[1], x[0]) * (180.0 / M_PI); }
-
-/* Face table and neighbours across faces; a face in three tets is a broken mesh. */
-static int build_faces(kt_incise *c, kt_err *e)
-{
-    const kt_mesh *m = c->m;
-    int nf = 4 * m->ne;
-    c->nbr = kt_calloc((size_t)nf, sizeof(int), e);
-    if (!c->nbr || kt_mesh_tet_faces(m, &c->ftab, e)) return e->code;
-    for (int i = 0; i < nf; i++) c->nbr[c->ftab[i].id] = -1;
-    for (int i = 0; i + 1 < nf; i++) {
-        if (kt_face_cmp_v(&c->ftab[i], &c->ftab[i + 1]) != 0) continue;
-        if (i + 2 < nf && kt_face_cmp_v(&c->ftab[i], &c->ftab[i + 2]) == 0)
-            return kt_fail(e, KT_EINPUT, "mesh: face (%d %d %d) is shared by more than two tets",
-                           c->ftab[i].v[0] + 1, c->ftab[i].v[1] + 1, c->ftab[i].v[2] + 1);
-        c->nbr[c->ftab[i].id] = c->ftab[i + 1].id;
-        c->nbr[c->ftab[i + 1].id] = c->ftab[i].id;
-    }
-    c->nftab = nf;
-    return KT_OK;
-}
-
-int kt_incise_find_face(const kt_incise *c, int a, int b, int d)
-{
-    int v[3] = {a, b, d};
-    int k = kt_face_find(c->ftab, c->nftab, v);
-    return k < 0 ? -1 : c->ftab[k].id;
-}
-
-/* Input node -> tets, every node of a tet (mid-edge nodes too). */
-static int build_node_tets(kt_incise *c, kt_err *e)
-{
-    const kt_mesh *m = c->m;
-    if (kt_mesh_node_tets(m, &c->n2t_p, &c->n2t_i, e)) return e->code;
-    c->maxdeg = 0;
-    for (int v = 0; v < m->nn; v++)
-        if (c->n2t_p[v + 1] - c->n2t_p[v] > c->maxdeg) c->maxdeg = c->n2t_p[v + 1] - c->n2t_p[v];
-    return KT_OK;
-}
-
-static int setup(kt_incise *c, kt_err *e)
-{
-    const kt_mesh *m = c->m;
-    c->nv = kt_tet_nv(m->order);
-    c->nn = m->nn;
-    c->cap = m->nn + 1024;
-    c->cur = kt_calloc((size_t)m->ne * c->nv, sizeof(int), e);
-    c->origin = kt_calloc((size_t)c->cap, sizeof(int), e);
-    c->cut = kt_calloc((size_t)4 * m->ne, 1, e);
-    c->side = kt_calloc((size_t)4 * m->ne, 1, e);
-    if (e->code) return e->code;
-    memcpy(c->cur, m->tet, (size_t)m->ne * c->nv * sizeof(int));
-    for (int v = 0; v < m->nn; v++) c->origin[v] = v;
-    if (build_faces(c, e) || build_node_tets(c, e)) return e->code;
-    int d = c->maxdeg + 1;
-    c->s_tet = kt_calloc((size_t)d, sizeof(int), e);
-    c->s_loc = kt_calloc((size_t)d, sizeof(int), e);
-    c->s_par = kt_calloc((size_t)d, sizeof(int), e);
-    c->s_lab = kt_calloc((size_t)d, sizeof(int), e);
-    c->st.nn = m->nn;
-    c->st.ne = m->ne;
-    return e->code;
-}
-
 /* ---- splitting ---- */
-
-int kt_incise_uf_find(int *par, int a)
-{
-    while (par[a] != a) a = par[a] = par[par[a]];
-    return a;
-}
 
 /* The tets currently holding node v, with v's local position in each. */
 static int star(kt_incise *c, int v)
@@ -257,18 +175,6 @@ int kt_incise_cut(kt_incise *c, kt_phase *ph, const kt_cutface *f, int n, kt_ste
     return KT_OK;
 }
 
-static int cmp_cutface(const void *pa, const void *pb)
-{
-    const kt_cutface *a = pa, *b = pb;
-    if (a->key != b->key) return (a->key > b->key) - (a->key < b->key);
-    return (a->slot > b->slot) - (a->slot < b->slot);
-}
-
-void kt_incise_sort_faces(kt_phase *ph)
-{
-    qsort(ph->face, (size_t)ph->nface, sizeof *ph->face, cmp_cutface);
-}
-
 /* ---- pull-apart forces of a planar cut ---- */
 
 static int add_pair(kt_phase *ph, int a, int b, kt_err *e)
@@ -414,7 +320,7 @@ int kt_incise_begin(kt_incise **cp, const kt_plan *p, kt_mesh *m, int quiet, kt_
     c->plan = p;
     c->m = m;
     c->quiet = quiet;
-    if (setup(c, e) || kt_incise_anchor_init(c, e) || add_phases(c, e)) {
+    if (kt_incise_tables(c, e) || kt_incise_anchor_init(c, e) || add_phases(c, e)) {
         kt_incise_end(c);
         return e->code;
     }

@@ -67,6 +67,8 @@ struct kt_incise {
     kt_incise_stats st;
 };
 
+/* incise_mesh.c: the current tets, the face table and neighbours, node -> tets, scratch. */
+int kt_incise_tables(kt_incise *c, kt_err *e);
 /* Local positions (0..9) of the nodes of face j of a tet of the given order; returns 3 or 6. */
 int kt_incise_face_pos(int order, int j, int *pos);
 /* The slot of the tet face with vertices a, b, c (any order), -1 if none (the lower slot of
