@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -104,5 +105,80 @@ int kt_cursor_fits(kt_cursor *c, size_t count, size_t each, const char *what)
 {
     if (count > INT_MAX || (count && (c->n - c->p) / count < each))
         return kt_cursor_fail(c, "%s %zu is more than the rest of the file can hold", what, count);
+    return KT_OK;
+}
+
+int kt_cursor_expect(kt_cursor *r, const char *word)
+{
+    const char *s;
+    size_t len;
+    if (kt_cursor_token(r, &s, &len, word)) return r->e->code;
+    if (len != strlen(word) || memcmp(s, word, len) != 0)
+        return kt_cursor_fail(r, "expected %s, found '%.*s'", word, (int)(len > 40 ? 40 : len), s);
+    return KT_OK;
+}
+
+/* Parse a token as an integer within [lo, hi]. */
+int kt_cursor_ll(kt_cursor *r, long long lo, long long hi, long long *v, const char *what)
+{
+    const char *s;
+    size_t len;
+    if (kt_cursor_token(r, &s, &len, what)) return r->e->code;
+    char buf[32];
+    if (len >= sizeof buf) return kt_cursor_fail(r, "expected %s (an integer), found '%.20s...'", what, s);
+    memcpy(buf, s, len);
+    buf[len] = '\0';
+    char *end;
+    errno = 0;
+    long long x = strtoll(buf, &end, 10);
+    if (end != buf + len || errno == ERANGE)
+        return kt_cursor_fail(r, "expected %s (an integer), found '%s'", what, buf);
+    if (x < lo || x > hi) return kt_cursor_fail(r, "%s %s out of range [%lld, %lld]", what, buf, lo, hi);
+    *v = x;
+    return KT_OK;
+}
+
+int kt_cursor_int(kt_cursor *r, int *v, const char *what)
+{
+    if (r->bin) {
+        int32_t x = 0;
+        if (kt_cursor_bytes(r, &x, 4, what)) return r->e->code;
+        *v = x;
+        return KT_OK;
+    }
+    long long x = 0;
+    if (kt_cursor_ll(r, INT_MIN, INT_MAX, &x, what)) return r->e->code;
+    *v = (int)x;
+    return KT_OK;
+}
+
+int kt_cursor_size(kt_cursor *r, size_t *v, const char *what)
+{
+    if (r->bin) {
+        uint64_t x = 0;
+        if (kt_cursor_bytes(r, &x, 8, what)) return r->e->code;
+        if (x > SIZE_MAX / 2) return kt_cursor_fail(r, "%s %llu out of range", what, (unsigned long long)x);
+        *v = (size_t)x;
+        return KT_OK;
+    }
+    long long x = 0;
+    if (kt_cursor_ll(r, 0, LLONG_MAX, &x, what)) return r->e->code;
+    *v = (size_t)x;
+    return KT_OK;
+}
+
+int kt_cursor_double(kt_cursor *r, double *v, const char *what)
+{
+    if (r->bin) return kt_cursor_bytes(r, v, 8, what);
+    const char *s;
+    size_t len;
+    if (kt_cursor_token(r, &s, &len, what)) return r->e->code;
+    char buf[64];
+    if (len >= sizeof buf) return kt_cursor_fail(r, "expected %s (a number), found '%.20s...'", what, s);
+    memcpy(buf, s, len);
+    buf[len] = '\0';
+    char *end;
+    *v = strtod(buf, &end);
+    if (end != buf + len) return kt_cursor_fail(r, "expected %s (a number), found '%s'", what, buf);
     return KT_OK;
 }

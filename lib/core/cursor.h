@@ -36,4 +36,16 @@ int kt_cursor_bytes(kt_cursor *c, void *dst, size_t k, const char *what);
  * in an int): a corrupt count is then an error instead of a huge allocation. */
 int kt_cursor_fits(kt_cursor *c, size_t count, size_t each, const char *what);
 
+/* The next token must be `word`. */
+int kt_cursor_expect(kt_cursor *c, const char *word);
+
+/* The next token as an integer within [lo, hi]. */
+int kt_cursor_ll(kt_cursor *c, long long lo, long long hi, long long *v, const char *what);
+
+/* The next value: a token in text; in a binary section (c->bin) raw bytes, byte-swapped when
+ * c->swap: int as 4 bytes, size as 8 (at most SIZE_MAX / 2), double as 8. */
+int kt_cursor_int(kt_cursor *c, int *v, const char *what);
+int kt_cursor_size(kt_cursor *c, size_t *v, const char *what);
+int kt_cursor_double(kt_cursor *c, double *v, const char *what);
+
 #endif

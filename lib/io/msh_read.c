@@ -56,81 +56,6 @@ static int type_kind(int type)
 
 typedef kt_cursor rd;
 
-static int expect(rd *r, const char *word)
-{
-    const char *s;
-    size_t len;
-    if (kt_cursor_token(r, &s, &len, word)) return r->e->code;
-    if (len != strlen(word) || memcmp(s, word, len) != 0)
-        return kt_cursor_fail(r, "expected %s, found '%.*s'", word, (int)(len > 40 ? 40 : len), s);
-    return KT_OK;
-}
-
-/* Parse a token as an integer within [lo, hi]. */
-static int tok_ll(rd *r, long long lo, long long hi, long long *v, const char *what)
-{
-    const char *s;
-    size_t len;
-    if (kt_cursor_token(r, &s, &len, what)) return r->e->code;
-    char buf[32];
-    if (len >= sizeof buf) return kt_cursor_fail(r, "expected %s (an integer), found '%.20s...'", what, s);
-    memcpy(buf, s, len);
-    buf[len] = '\0';
-    char *end;
-    errno = 0;
-    long long x = strtoll(buf, &end, 10);
-    if (end != buf + len || errno == ERANGE)
-        return kt_cursor_fail(r, "expected %s (an integer), found '%s'", what, buf);
-    if (x < lo || x > hi) return kt_cursor_fail(r, "%s %s out of range [%lld, %lld]", what, buf, lo, hi);
-    *v = x;
-    return KT_OK;
-}
-
-static int get_int(rd *r, int *v, const char *what)
-{
-    if (r->bin) {
-        int32_t x = 0;
-        if (kt_cursor_bytes(r, &x, 4, what)) return r->e->code;
-        *v = x;
-        return KT_OK;
-    }
-    long long x = 0;
-    if (tok_ll(r, INT_MIN, INT_MAX, &x, what)) return r->e->code;
-    *v = (int)x;
-    return KT_OK;
-}
-
-static int get_size(rd *r, size_t *v, const char *what)
-{
-    if (r->bin) {
-        uint64_t x = 0;
-        if (kt_cursor_bytes(r, &x, 8, what)) return r->e->code;
-        if (x > SIZE_MAX / 2) return kt_cursor_fail(r, "%s %llu out of range", what, (unsigned long long)x);
-        *v = (size_t)x;
-        return KT_OK;
-    }
-    long long x = 0;
-    if (tok_ll(r, 0, LLONG_MAX, &x, what)) return r->e->code;
-    *v = (size_t)x;
-    return KT_OK;
-}
-
-static int get_double(rd *r, double *v, const char *what)
-{
-    if (r->bin) return kt_cursor_bytes(r, v, 8, what);
-    const char *s;
-    size_t len;
-    if (kt_cursor_token(r, &s, &len, what)) return r->e->code;
-    char buf[64];
-    if (len >= sizeof buf) return kt_cursor_fail(r, "expected %s (a number), found '%.20s...'", what, s);
-    memcpy(buf, s, len);
-    buf[len] = '\0';
-    char *end;
-    *v = strtod(buf, &end);
-    if (end != buf + len) return kt_cursor_fail(r, "expected %s (a number), found '%s'", what, buf);
-    return KT_OK;
-}
-
 /* After a section header line, binary data starts right after its newline. */
 static int end_header_line(rd *r)
 {
@@ -217,8 +142,8 @@ static int read_format(msh_rd *s)
         return kt_cursor_fail(r, "expected MSH version 4.1, found '%.*s' (convert with: gmsh FILE -save "
                           "-format msh41 -o OUT.msh)", (int)(len > 20 ? 20 : len), v);
     long long ft, ds;
-    if (tok_ll(r, 0, 1, &ft, "file-type (0 ASCII, 1 binary)")) return r->e->code;
-    if (tok_ll(r, 8, 8, &ds, "data-size 8")) return r->e->code;
+    if (kt_cursor_ll(r, 0, 1, &ft, "file-type (0 ASCII, 1 binary)")) return r->e->code;
+    if (kt_cursor_ll(r, 8, 8, &ds, "data-size 8")) return r->e->code;
     if (ft == 1) {
         if (end_header_line(r)) return r->e->code;
         r->bin = 1;
@@ -228,7 +153,7 @@ static int read_format(msh_rd *s)
         else if (one != 1) return kt_cursor_fail(r, "expected endianness check integer 1, found %d", (int)one);
         r->bin = 0;
     }
-    if (expect(r, "$EndMeshFormat")) return r->e->code;
+    if (kt_cursor_expect(r, "$EndMeshFormat")) return r->e->code;
     r->bin = (int)ft; /* remembered as "file is binary"; sections switch it on and off */
     s->have_format = 1;
     return KT_OK;
@@ -245,11 +170,11 @@ static int read_physical_names(msh_rd *s)
 {
     rd *r = &s->r;
     long long n;
-    if (tok_ll(r, 0, INT_MAX, &n, "number of physical names")) return r->e->code;
+    if (kt_cursor_ll(r, 0, INT_MAX, &n, "number of physical names")) return r->e->code;
     for (long long i = 0; i < n; i++) {
         long long dim, tag;
-        if (tok_ll(r, 0, 3, &dim, "physical dimension (0-3)")) return r->e->code;
-        if (tok_ll(r, INT_MIN, INT_MAX, &tag, "physical tag")) return r->e->code;
+        if (kt_cursor_ll(r, 0, 3, &dim, "physical dimension (0-3)")) return r->e->code;
+        if (kt_cursor_ll(r, INT_MIN, INT_MAX, &tag, "physical tag")) return r->e->code;
         while (r->p < r->n && (r->b[r->p] == ' ' || r->b[r->p] == '\t')) r->p++;
         r->at = r->p;
         if (r->p >= r->n || r->b[r->p] != '"') return kt_cursor_fail(r, "expected a quoted physical name");
@@ -270,7 +195,7 @@ static int read_physical_names(msh_rd *s)
         if (g) strcpy(s->m->group[g - s->m->group].name, buf); /* $Entities came first */
         else if (kt_mesh_add_group(s->m, (int)dim, (int)tag, buf, r->e)) return r->e->code;
     }
-    return expect(r, "$EndPhysicalNames");
+    return kt_cursor_expect(r, "$EndPhysicalNames");
 }
 
 /* One entity record; physical tags of surfaces and volumes are kept. */
@@ -280,11 +205,11 @@ static int read_entity(msh_rd *s, int dim)
     int tag;
     double x;
     size_t np, nb;
-    if (get_int(r, &tag, "entity tag")) return r->e->code;
+    if (kt_cursor_int(r, &tag, "entity tag")) return r->e->code;
     for (int k = 0; k < (dim == 0 ? 3 : 6); k++)
-        if (get_double(r, &x, dim == 0 ? "point coordinate" : "bounding box coordinate"))
+        if (kt_cursor_double(r, &x, dim == 0 ? "point coordinate" : "bounding box coordinate"))
             return r->e->code;
-    if (get_size(r, &np, "number of physical tags")) return r->e->code;
+    if (kt_cursor_size(r, &np, "number of physical tags")) return r->e->code;
     if (kt_cursor_fits(r, np, r->bin ? 4 : 2, "number of physical tags")) return r->e->code;
     ents *E = dim >= 2 ? &s->ent[dim - 2] : NULL;
     if (E) {
@@ -304,17 +229,17 @@ static int read_entity(msh_rd *s, int dim)
     }
     for (size_t i = 0; i < np; i++) {
         int ph;
-        if (get_int(r, &ph, "physical tag")) return r->e->code;
+        if (kt_cursor_int(r, &ph, "physical tag")) return r->e->code;
         if (!E) continue;
         E->phys[E->nphys++] = ph;
         if (ensure_group(s, dim, ph, "")) return r->e->code;
     }
     if (E) E->ptr[++E->n] = E->nphys;
     if (dim == 0) return KT_OK;
-    if (get_size(r, &nb, "number of bounding entities")) return r->e->code;
+    if (kt_cursor_size(r, &nb, "number of bounding entities")) return r->e->code;
     if (kt_cursor_fits(r, nb, r->bin ? 4 : 2, "number of bounding entities")) return r->e->code;
     for (size_t i = 0; i < nb; i++)
-        if (get_int(r, &tag, "bounding entity tag")) return r->e->code;
+        if (kt_cursor_int(r, &tag, "bounding entity tag")) return r->e->code;
     return KT_OK;
 }
 
@@ -325,7 +250,7 @@ static int read_entities(msh_rd *s)
     static const char *what[4] = {"number of points", "number of curves", "number of surfaces",
                                   "number of volumes"};
     for (int d = 0; d < 4; d++)
-        if (get_size(r, &cnt[d], what[d]) || kt_cursor_fits(r, cnt[d], r->bin ? 32 : 8, what[d]))
+        if (kt_cursor_size(r, &cnt[d], what[d]) || kt_cursor_fits(r, cnt[d], r->bin ? 32 : 8, what[d]))
             return r->e->code;
     for (int d = 0; d < 4; d++)
         for (size_t i = 0; i < cnt[d]; i++)
@@ -396,8 +321,8 @@ static int read_nodes(msh_rd *s)
     if (s->have_nodes) return kt_cursor_fail(r, "expected one $Nodes section, found a second");
     s->have_nodes = 1;
     size_t nblk, nn, mintag, maxtag;
-    if (get_size(r, &nblk, "number of node blocks") || get_size(r, &nn, "number of nodes") ||
-        get_size(r, &mintag, "minimum node tag") || get_size(r, &maxtag, "maximum node tag"))
+    if (kt_cursor_size(r, &nblk, "number of node blocks") || kt_cursor_size(r, &nn, "number of nodes") ||
+        kt_cursor_size(r, &mintag, "minimum node tag") || kt_cursor_size(r, &maxtag, "maximum node tag"))
         return r->e->code;
     if (kt_cursor_fits(r, nblk, r->bin ? 20 : 8, "number of node blocks") ||
         kt_cursor_fits(r, nn, r->bin ? 32 : 8, "number of nodes"))
@@ -408,24 +333,24 @@ static int read_nodes(msh_rd *s)
     for (size_t b = 0; b < nblk && !r->e->code; b++) {
         int edim, etag, param;
         size_t cnt;
-        if (get_int(r, &edim, "entity dimension") || get_int(r, &etag, "entity tag") ||
-            get_int(r, &param, "parametric flag (0 or 1)") ||
-            get_size(r, &cnt, "number of nodes in block"))
+        if (kt_cursor_int(r, &edim, "entity dimension") || kt_cursor_int(r, &etag, "entity tag") ||
+            kt_cursor_int(r, &param, "parametric flag (0 or 1)") ||
+            kt_cursor_size(r, &cnt, "number of nodes in block"))
             break;
         if (edim < 0 || edim > 3) { kt_cursor_fail(r, "expected entity dimension 0-3, found %d", edim); break; }
         if (param != 0 && param != 1) { kt_cursor_fail(r, "expected parametric flag 0 or 1, found %d", param); break; }
         if (cnt > nn - k) { kt_cursor_fail(r, "node block of %zu nodes exceeds the %zu nodes declared", cnt, nn); break; }
         for (size_t i = 0; i < cnt; i++) {
-            if (get_size(r, &tp[k + i].tag, "node tag")) break;
+            if (kt_cursor_size(r, &tp[k + i].tag, "node tag")) break;
             if (tp[k + i].tag == 0) { kt_cursor_fail(r, "expected a node tag >= 1, found 0"); break; }
             tp[k + i].pos = k + i;
         }
         int extra = param ? (edim < 3 ? edim : 3) : 0;
         for (size_t i = 0; i < cnt && !r->e->code; i++) {
             for (int c = 0; c < 3; c++)
-                if (get_double(r, &xyz[3 * (k + i) + c], "node coordinate")) break;
+                if (kt_cursor_double(r, &xyz[3 * (k + i) + c], "node coordinate")) break;
             double uvw;
-            for (int c = 0; c < extra && !r->e->code; c++) get_double(r, &uvw, "parametric coordinate");
+            for (int c = 0; c < extra && !r->e->code; c++) kt_cursor_double(r, &uvw, "parametric coordinate");
         }
         k += cnt;
     }
@@ -488,10 +413,10 @@ static int read_block(msh_rd *s)
     rd *r = &s->r;
     int edim, etag, type;
     size_t cnt;
-    if (get_int(r, &edim, "entity dimension")) return r->e->code;
+    if (kt_cursor_int(r, &edim, "entity dimension")) return r->e->code;
     size_t header = r->at;
-    if (get_int(r, &etag, "entity tag") || get_int(r, &type, "element type") ||
-        get_size(r, &cnt, "number of elements in block"))
+    if (kt_cursor_int(r, &etag, "entity tag") || kt_cursor_int(r, &type, "element type") ||
+        kt_cursor_size(r, &cnt, "number of elements in block"))
         return r->e->code;
     int k = type_kind(type);
     if (k < 0) return skip_block(r, type, cnt);
@@ -512,11 +437,11 @@ static int read_block(msh_rd *s)
     if (elist_grow(L, nv, cnt, r->e)) return r->e->code;
     for (size_t i = 0; i < cnt; i++) {
         size_t t;
-        if (get_size(r, &L->etag[L->n], "element tag")) return r->e->code;
+        if (kt_cursor_size(r, &L->etag[L->n], "element tag")) return r->e->code;
         L->ent[L->n] = etag;
         int *nd = L->node + (size_t)nv * L->n;
         for (int j = 0; j < nv; j++) {
-            if (get_size(r, &t, "node tag")) return r->e->code;
+            if (kt_cursor_size(r, &t, "node tag")) return r->e->code;
             nd[j] = node_number(&s->map, t);
             if (nd[j] < 0) return kt_cursor_fail(r, "node tag %zu is not in $Nodes", t);
         }
@@ -532,8 +457,8 @@ static int read_elements(msh_rd *s)
     if (s->have_elements) return kt_cursor_fail(r, "expected one $Elements section, found a second");
     s->have_elements = 1;
     size_t nblk, ne, lo, hi;
-    if (get_size(r, &nblk, "number of element blocks") || get_size(r, &ne, "number of elements") ||
-        get_size(r, &lo, "minimum element tag") || get_size(r, &hi, "maximum element tag"))
+    if (kt_cursor_size(r, &nblk, "number of element blocks") || kt_cursor_size(r, &ne, "number of elements") ||
+        kt_cursor_size(r, &lo, "minimum element tag") || kt_cursor_size(r, &hi, "maximum element tag"))
         return r->e->code;
     if (kt_cursor_fits(r, nblk, r->bin ? 20 : 8, "number of element blocks")) return r->e->code;
     for (size_t b = 0; b < nblk; b++)
@@ -691,7 +616,7 @@ static int read_sections(msh_rd *s)
         r->bin = 0;
         char end[72];
         snprintf(end, sizeof end, "$End%s", name);
-        if (expect(r, end)) return r->e->code;
+        if (kt_cursor_expect(r, end)) return r->e->code;
     }
     r->at = r->n;
     if (!s->have_format) return kt_cursor_fail(r, "expected $MeshFormat");
