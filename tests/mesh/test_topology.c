@@ -140,6 +140,19 @@ static void test_node_tets(void)
     CHECK(kt_mesh_elevate(&m, &e) == 0, "%s", e.msg);
     check_node_tets(&m, "order 2");
     kt_mesh_free(&m);
+    /* a broken tet holding node 1 twice lists that tet once; node 3 is in no tet */
+    int tet[8] = {0, 1, 1, 2, 2, 1, 0, 4};
+    double xyz[15] = {0};
+    kt_mesh b = {.order = 1, .nn = 5, .xyz = xyz, .ne = 2, .tet = tet};
+    int *Bp, *Bi;
+    CHECK(kt_mesh_node_tets(&b, &Bp, &Bi, &e) == 0, "%s", e.msg);
+    if (!e.code) {
+        int want_p[6] = {0, 2, 4, 6, 6, 7}, want_i[7] = {0, 1, 0, 1, 0, 1, 1};
+        CHECK(memcmp(Bp, want_p, sizeof want_p) == 0 && memcmp(Bi, want_i, sizeof want_i) == 0,
+              "repeated node: Ep %d %d %d %d %d %d", Bp[0], Bp[1], Bp[2], Bp[3], Bp[4], Bp[5]);
+        free(Bp);
+        free(Bi);
+    }
 }
 
 /* The sorted face table of a box: interior faces twice, boundary faces once; the boundary is
