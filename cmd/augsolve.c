@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "aug.h"
+#include "augsolve_run.h"
 
 static const char *USAGE =
     "usage: augsolve MESH.msh EDITS -o RUN_DIR [options]\n"

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "curv.h"
+#include "curvature_run.h"
 
 static const char usage[] =
     "usage: curvature [options] RUN_DIR\n"

@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "incise.h"
+#include "cutplan_run.h"
 
 static const char *USAGE =
     "usage: cutplan PLAN.yaml MESH.msh -o EDITS [--mesh-out SNAPPED.msh [--binary]] [-q]\n"

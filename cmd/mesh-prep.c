@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "prep.h"
+#include "meshprep_run.h"
 
 static const char *USAGE =
     "usage: mesh-prep SCENE.yaml -o OUT.msh [--ordering amd|metis|constrained|natural|metis-last]\n"

@@ -1,8 +1,8 @@
 // eye.geo: the keratome parametric eye for the gmsh GUI (gmsh 4.8, OpenCASCADE kernel).
 //
-// This script mirrors what lib/eye.c builds through the gmsh C API (see meshes/README.md):
+// This script mirrors what lib/model/eye.c builds through the gmsh C API (see meshes/README.md):
 // the rotationally symmetric base eye, one incision-ready ring, the same physical groups and
-// the same size fields. Two things only lib/eye.c does: the toric anterior surface (the
+// the same size fields. Two things only lib/model/eye.c does: the toric anterior surface (the
 // mesh nodes are mapped onto it after meshing, see README) and the general placement rules
 // (limbal rings, validation, several rings). The default values are those of plans/eye.yaml;
 // change them in the GUI (Eye/...) or with `gmsh -setnumber name value`.
@@ -32,7 +32,7 @@ DefineConstant[
   h_scl = {1.2, Name "Mesh sizes/sclera (mm)"}
 ];
 
-// ---- derived geometry (same formulas as lib/eye_geom.c) --------------------------------
+// ---- derived geometry (same formulas as lib/model/eye_geom.c) --------------------------------
 Ra = 2 / (1 / r_steep + 1 / r_flat);       // mean anterior radius (mean curvature)
 rc = wtw / 2;  rL = rc + lw;  Ri = Rg - sclera;
 zE = Sqrt(Rg^2 - rc^2);                    // corneal edge E on the outer globe sphere
@@ -101,7 +101,7 @@ e = 1e-6;
 // the stub outside the eye
 Recursive Delete { Surface{ Surface In BoundingBox{-rr - 1, -rr - 1, zTop - e, rr + 1, rr + 1, zTop + 0.2} }; }
 
-// ---- physical groups (names and tags of lib/eye.h) --------------------------------------
+// ---- physical groups (names and tags of lib/model/eye.h) --------------------------------------
 Physical Volume("cornea", 1) = Volume In BoundingBox{-rc - e, -rc - e, PpZ - e, rc + e, rc + e, zA + e};
 Physical Volume("limbus", 2) = Volume In BoundingBox{-rL - e, -rL - e, Ri * Cos(aL) - e, rL + e, rL + e, zE + e};
 zlo = Min(Rg * Cos(aX), Ri * Cos(aX));  zhi = Max(Rg * Cos(aX), Ri * Cos(aX));  // the rim
@@ -130,7 +130,7 @@ Physical Surface("fixed", 3) = {rim[]};
 Physical Surface("outer", 4) = {limout[], sclout[]};
 Physical Surface("incision-ring-1", 11) = {ring[]};
 
-// ---- size fields (as in lib/eye.c) ----------------------------------------------------
+// ---- size fields (as in lib/model/eye.c) ----------------------------------------------------
 hmax = h_scl;  If (hc > hmax) hmax = hc; EndIf
 Field[1] = MathEval;   // distance from the axis, switched off below the corneal edge
 Field[1].F = Sprintf("sqrt(x*x+y*y) + 100*((%.17g - z) + Fabs(%.17g - z))", PpZ, PpZ);

@@ -34,7 +34,7 @@ for f in msh-p1 msh-p1-bin msh-p2 msh-p2-bin vtk-p1 vtk-p2; do
     elems=$(($(value tets "$D/$f.counts") + $(value triangles "$D/$f.counts")))
     gmsh "$F" -check >"$D/$f.check" 2>&1
     rc=$?
-    # A triangle in two groups is written once per group (lib/mesh.h), which gmsh's coherence
+    # A triangle in two groups is written once per group (lib/mesh/mesh.h), which gmsh's coherence
     # check reports as duplicate elements: expect exactly those ("bottom-too" in msh-*).
     dup=$(awk '$1 == "group" && $4 == "bottom-too" { print $5 }' "$D/$f.counts")
     if [ -n "$dup" ]; then

@@ -12,13 +12,15 @@
 
 #include <cholmod.h>
 
-#include "fem.h"
+#include "bind.h"
+#include "chol.h"
 #include "msh.h"
 #include "scene.h"
 
 typedef struct bench_problem {
     kt_mesh mesh;
     kt_scene scene;
+    kt_fem_problem fem;   /* the scene on the mesh (owns what the three below point to) */
     kt_materials mats;
     unsigned char *fixed; /* 3*nn: Dirichlet DOFs of the scene */
     double *g;            /* 3*nn: their values, mm */
@@ -26,9 +28,7 @@ typedef struct bench_problem {
 
 static inline void bench_problem_free(bench_problem *p)
 {
-    free(p->fixed);
-    free(p->g);
-    free(p->mats.mat);
+    kt_fem_problem_free(&p->fem);
     kt_mesh_free(&p->mesh);
     memset(p, 0, sizeof *p);
 }
@@ -38,13 +38,12 @@ static inline int bench_problem_load(bench_problem *p, const char *mesh, const c
 {
     memset(p, 0, sizeof *p);
     if (kt_msh_read(mesh, &p->mesh, e) || kt_scene_load(scene, &p->scene, e) ||
-        kt_scene_materials(&p->scene, &p->mesh, &p->mats, e))
+        kt_fem_bind(&p->scene, &p->mesh, &p->fem, e))
         return e->code;
-    size_t n = 3 * (size_t)p->mesh.nn;
-    p->fixed = kt_calloc(n, 1, e);
-    p->g = kt_calloc(n, sizeof(double), e);
-    if (e->code) return e->code;
-    return kt_scene_dirichlet(&p->scene, &p->mesh, p->fixed, p->g, e);
+    p->mats = p->fem.mats;
+    p->fixed = p->fem.fixed;
+    p->g = p->fem.g;
+    return KT_OK;
 }
 
 /* The free-DOF block of the constrained stiffness (lower triangle, stype -1): the matrix whose
@@ -114,13 +113,7 @@ static inline cholmod_factor *bench_analyze(cholmod_sparse *K, const char *order
 
 static inline int bench_factorize(cholmod_sparse *K, cholmod_factor *L, cholmod_common *c, kt_err *e)
 {
-    cholmod_factorize(K, L, c);
-    if (c->status == CHOLMOD_NOT_POSDEF || L->minor < L->n)
-        return kt_fail(e, KT_ERUN, "not positive definite at pivot %zu of %zu", L->minor + 1,
-                       L->n);
-    if (c->status != CHOLMOD_OK)
-        return kt_fail(e, KT_ERUN, "CHOLMOD factorize failed (status %d)", c->status);
-    return KT_OK;
+    return kt_chol_factor(K, L, c, "bench", e);
 }
 
 /* Stored entries of L: supernodal values (padding included) or simplicial column counts. */

@@ -62,22 +62,10 @@ static int parse(int argc, char **argv, opts *o)
 }
 
 /* Pressures and fixation surfaces of the scene, by mesh group tag (as augsolve sets them). */
-static int problem(const bench_problem *p, kt_aug_pressure *press, kt_aug_fixsurf *fix,
-                   kt_aug_problem *ap, kt_err *e)
+static int problem(const bench_problem *p, kt_aug_problem *ap)
 {
-    for (int k = 0; k < p->scene.npressure; k++) {
-        const kt_group *g = kt_mesh_find_group(&p->mesh, 2, p->scene.pressure[k].surface);
-        if (!g) return kt_fail(e, KT_EINPUT, "no pressure surface '%s'", p->scene.pressure[k].surface);
-        press[k] = (kt_aug_pressure){g->tag, p->scene.pressure[k].p};
-    }
-    int nfix = 0;
-    for (int k = 0; k < p->scene.nfix; k++) {
-        const kt_group *g = kt_mesh_find_group(&p->mesh, 2, p->scene.fix[k].surface);
-        if (!g) continue;
-        fix[nfix] = (kt_aug_fixsurf){g->tag, p->scene.fix[k].mask, {0, 0, 0}};
-        memcpy(fix[nfix++].v, p->scene.fix[k].value, sizeof fix[0].v);
-    }
-    *ap = (kt_aug_problem){&p->mesh, &p->mats, p->fixed, p->g, p->scene.npressure, press, nfix, fix};
+    const kt_fem_problem *f = &p->fem;
+    *ap = (kt_aug_problem){&p->mesh, &f->mats, f->fixed, f->g, f->npress, f->press, f->nfix, f->fix};
     return KT_OK;
 }
 
@@ -127,8 +115,6 @@ int main(int argc, char **argv)
     kt_edits_reader rd;
     kt_step st = {0};
     kt_aug *A = NULL;
-    kt_aug_pressure press[KT_SCENE_MAX];
-    kt_aug_fixsurf fix[KT_SCENE_MAX];
     kt_aug_problem ap;
     int failed = 0;
     FILE *f = fopen(o.edits, "r");
@@ -138,7 +124,7 @@ int main(int argc, char **argv)
     }
     if (kt_edits_open(&rd, f, o.edits, &e)) goto done;
     if (bench_problem_load(&p, o.mesh, o.scene ? o.scene : rd.h.scene, &e) ||
-        problem(&p, press, fix, &ap, &e))
+        problem(&p, &ap))
         goto done;
     printf("tag\tmethod\tstep\tn_dofs\tm\tnew_dofs\titers\tclosure_max\tt_update_ms\tt_step1_ms\t"
            "t_step2_ms\tt_step3_ms\tt_total_ms\trel_residual\trefactor\tverify_rel_diff\tnnz_L\t"

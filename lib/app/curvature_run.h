@@ -1,0 +1,33 @@
+/* curvature_run.h: the curvature tool (run folder -> keratometry tables, maps, summaries). */
+#ifndef KT_CURVATURE_RUN_H
+#define KT_CURVATURE_RUN_H
+
+#include <stdio.h>
+#include "curv.h"
+
+typedef struct kt_curv_opts {
+    const char *run_dir;     /* RUN_DIR, or NULL with mesh + vtk[] */
+    const char *mesh;        /* --mesh: the input mesh (MSH) */
+    const char *plan;        /* --plan: overrides run.yaml's plan */
+    const char *const *vtk;  /* step files, step 0 first (with mesh) */
+    int nvtk;
+    const char *outdir;      /* -o; default RUN_DIR (or "." with --mesh) */
+    double zone;             /* keratometry zone diameter, mm (3, 5 or 7) */
+    double map_zone;         /* diameter of the axial map and its fit, mm */
+    int fit;                 /* KT_FIT_* */
+    int order;               /* Zernike order of the zone fit */
+    int map_order;           /* Zernike order of the map fit */
+    double meridian;         /* incised meridian, deg; NaN: from the plan, else steep at step 0 */
+    int png, vtk_out;        /* write the PNG maps / the surface VTKs */
+    int quiet;
+    const char *scale;       /* colour scale TSV; NULL: SHARE/colour/axial.tsv */
+    const char *share;       /* share folder; NULL: $KERATOME_SHARE, else the build's share/ */
+} kt_curv_opts;
+
+void kt_curv_opts_default(kt_curv_opts *o);
+
+/* Analyse every step, write curvature.tsv, meridians.tsv, surface-NNNN.vtk and axial-NNNN.png
+ * into the output folder (all or nothing) and print the summary on `summary`. */
+int kt_curv_run(const kt_curv_opts *o, FILE *summary, kt_err *e);
+
+#endif

@@ -1,0 +1,187 @@
+/* cursor.c: a byte cursor over a file in memory, with positioned error messages. */
+#include "cursor.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int kt_cursor_open(kt_cursor *c, const char *path, kt_err *e)
+{
+    memset(c, 0, sizeof *c);
+    c->e = e;
+    c->path = strcmp(path, "-") == 0 ? "<stdin>" : path;
+    FILE *f = strcmp(path, "-") == 0 ? stdin : fopen(path, "rb");
+    if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    size_t cap = 1 << 16, n = 0;
+    unsigned char *b = kt_calloc(cap, 1, e);
+    while (b) {
+        if (n + 1 >= cap) {
+            unsigned char *nb = kt_realloc(b, cap * 2, 1, e);
+            if (!nb) {
+                free(b);
+                b = NULL;
+                break;
+            }
+            b = nb, cap *= 2;
+        }
+        size_t got = fread(b + n, 1, cap - 1 - n, f);
+        n += got;
+        if (got == 0) break;
+    }
+    int bad = b && ferror(f);
+    if (f != stdin) fclose(f);
+    if (!b) return e->code;
+    if (bad) {
+        free(b);
+        return kt_fail(e, KT_EINPUT, "%s: read error", path);
+    }
+    b[n] = '\0';
+    c->b = b;
+    c->n = n;
+    return KT_OK;
+}
+
+void kt_cursor_close(kt_cursor *c)
+{
+    free((void *)c->b);
+    c->b = NULL;
+    c->n = c->p = c->at = 0;
+}
+
+int kt_cursor_fail(kt_cursor *c, const char *fmt, ...)
+{
+    char msg[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (c->at >= c->n) return kt_fail(c->e, KT_EINPUT, "%s: unexpected end of file: %s", c->path, msg);
+    if (c->bin) return kt_fail(c->e, KT_EINPUT, "%s: byte %zu: %s", c->path, c->at, msg);
+    size_t line = 1, col = 1;
+    for (size_t i = 0; i < c->at; i++) {
+        if (c->b[i] == '\n') line++, col = 1;
+        else col++;
+    }
+    return kt_fail(c->e, KT_EINPUT, "%s:%zu:%zu: %s", c->path, line, col, msg);
+}
+
+int kt_cursor_is_ws(unsigned char ch) { return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\n'; }
+
+int kt_cursor_token(kt_cursor *c, const char **s, size_t *len, const char *what)
+{
+    while (c->p < c->n && kt_cursor_is_ws(c->b[c->p])) c->p++;
+    c->at = c->p;
+    if (c->p >= c->n) return kt_cursor_fail(c, "expected %s", what);
+    size_t q = c->p;
+    while (q < c->n && !kt_cursor_is_ws(c->b[q]) && c->b[q] != '\0') q++;
+    if (q == c->p) return kt_cursor_fail(c, "expected %s, found a NUL byte", what);
+    *s = (const char *)c->b + c->p;
+    *len = q - c->p;
+    c->p = q;
+    return KT_OK;
+}
+
+int kt_cursor_bytes(kt_cursor *c, void *dst, size_t k, const char *what)
+{
+    c->at = c->p;
+    if (c->n - c->p < k) {
+        c->at = c->n;
+        return kt_cursor_fail(c, "expected %s (%zu binary bytes)", what, k);
+    }
+    unsigned char *d = dst;
+    if (c->swap)
+        for (size_t i = 0; i < k; i++) d[i] = c->b[c->p + k - 1 - i];
+    else
+        memcpy(d, c->b + c->p, k);
+    c->p += k;
+    return KT_OK;
+}
+
+int kt_cursor_fits(kt_cursor *c, size_t count, size_t each, const char *what)
+{
+    if (count > INT_MAX || (count && (c->n - c->p) / count < each))
+        return kt_cursor_fail(c, "%s %zu is more than the rest of the file can hold", what, count);
+    return KT_OK;
+}
+
+int kt_cursor_expect(kt_cursor *r, const char *word)
+{
+    const char *s;
+    size_t len;
+    if (kt_cursor_token(r, &s, &len, word)) return r->e->code;
+    if (len != strlen(word) || memcmp(s, word, len) != 0)
+        return kt_cursor_fail(r, "expected %s, found '%.*s'", word, (int)(len > 40 ? 40 : len), s);
+    return KT_OK;
+}
+
+/* The next token, NUL-terminated in buf (size bytes); a longer one is an error naming `kind`. */
+static int token_text(kt_cursor *r, char *buf, size_t size, const char *what, const char *kind)
+{
+    const char *s;
+    size_t len;
+    if (kt_cursor_token(r, &s, &len, what)) return r->e->code;
+    if (len >= size) return kt_cursor_fail(r, "expected %s (%s), found '%.20s...'", what, kind, s);
+    memcpy(buf, s, len);
+    buf[len] = '\0';
+    return KT_OK;
+}
+
+/* Parse a token as an integer within [lo, hi]. */
+int kt_cursor_ll(kt_cursor *r, long long lo, long long hi, long long *v, const char *what)
+{
+    char buf[32];
+    if (token_text(r, buf, sizeof buf, what, "an integer")) return r->e->code;
+    size_t len = strlen(buf);
+    char *end;
+    errno = 0;
+    long long x = strtoll(buf, &end, 10);
+    if (end != buf + len || errno == ERANGE)
+        return kt_cursor_fail(r, "expected %s (an integer), found '%s'", what, buf);
+    if (x < lo || x > hi) return kt_cursor_fail(r, "%s %s out of range [%lld, %lld]", what, buf, lo, hi);
+    *v = x;
+    return KT_OK;
+}
+
+int kt_cursor_int(kt_cursor *r, int *v, const char *what)
+{
+    if (r->bin) {
+        int32_t x = 0;
+        if (kt_cursor_bytes(r, &x, 4, what)) return r->e->code;
+        *v = x;
+        return KT_OK;
+    }
+    long long x = 0;
+    if (kt_cursor_ll(r, INT_MIN, INT_MAX, &x, what)) return r->e->code;
+    *v = (int)x;
+    return KT_OK;
+}
+
+int kt_cursor_size(kt_cursor *r, size_t *v, const char *what)
+{
+    if (r->bin) {
+        uint64_t x = 0;
+        if (kt_cursor_bytes(r, &x, 8, what)) return r->e->code;
+        if (x > SIZE_MAX / 2) return kt_cursor_fail(r, "%s %llu out of range", what, (unsigned long long)x);
+        *v = (size_t)x;
+        return KT_OK;
+    }
+    long long x = 0;
+    if (kt_cursor_ll(r, 0, LLONG_MAX, &x, what)) return r->e->code;
+    *v = (size_t)x;
+    return KT_OK;
+}
+
+int kt_cursor_double(kt_cursor *r, double *v, const char *what)
+{
+    if (r->bin) return kt_cursor_bytes(r, v, 8, what);
+    char buf[64];
+    if (token_text(r, buf, sizeof buf, what, "a number")) return r->e->code;
+    char *end;
+    *v = strtod(buf, &end);
+    if (*end) return kt_cursor_fail(r, "expected %s (a number), found '%s'", what, buf);
+    return KT_OK;
+}

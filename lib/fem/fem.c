@@ -1,0 +1,530 @@
+/* fem.c: isotropic linear elasticity on 4- and 10-node tets: element stiffness, assembly into a
+ * CHOLMOD matrix (int interface: the caller's cholmod_common comes from cholmod_start), Dirichlet
+ * lifting and a direct supernodal solve with a residual check. */
+#include "fem.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "chol.h"
+#include "topology.h"
+
+/* ---------------------------------------------------------------- quadrature */
+
+/* A rule on the reference tet (0,0,0) (1,0,0) (0,1,0) (0,0,1): points (xi, eta, zeta) and
+ * weights summing to its volume 1/6. */
+typedef struct tet_rule {
+    int n;
+    const double (*p)[3];
+    const double *w;
+} tet_rule;
+
+/* 4 points, degree 2: exact for the P2 stiffness of a straight-sided tet. */
+#define R4A 0.58541019662496845 /* (5 + 3 sqrt 5) / 20 */
+#define R4B 0.13819660112501051 /* (5 - sqrt 5) / 20 */
+static const double Q4_P[4][3] = {{R4B, R4B, R4B}, {R4A, R4B, R4B}, {R4B, R4A, R4B}, {R4B, R4B, R4A}};
+static const double Q4_W[4] = {1.0 / 24, 1.0 / 24, 1.0 / 24, 1.0 / 24};
+
+/* 14 points, degree 5, positive weights (Walkington): for curved (isoparametric) tets, where
+ * det(J) grad(N) is cubic, so the integral of grad(N) and the patch test stay exact. */
+#define R14A 0.045503704125647207
+#define R14B (0.5 - R14A)
+#define R14C 0.09273525031089172
+#define R14C1 (1.0 - 3.0 * R14C)
+#define R14D 0.31088591926330084
+#define R14D1 (1.0 - 3.0 * R14D)
+#define W14A 0.0070910034628465669
+#define W14C 0.012248840519393811
+#define W14D 0.018781320953002997
+static const double Q14_P[14][3] = {
+    {R14A, R14A, R14B}, {R14A, R14B, R14A}, {R14B, R14A, R14A},
+    {R14B, R14B, R14A}, {R14B, R14A, R14B}, {R14A, R14B, R14B},
+    {R14C, R14C, R14C}, {R14C1, R14C, R14C}, {R14C, R14C1, R14C}, {R14C, R14C, R14C1},
+    {R14D, R14D, R14D}, {R14D1, R14D, R14D}, {R14D, R14D1, R14D}, {R14D, R14D, R14D1}};
+static const double Q14_W[14] = {W14A, W14A, W14A, W14A, W14A, W14A, W14C,
+                                  W14C, W14C, W14C, W14D, W14D, W14D, W14D};
+
+/* gmsh tet10 edge nodes 4..9 lie on these vertex pairs. */
+
+/* Reference gradients of the shape functions at (xi, eta, zeta): dN[a][k] = dN_a / dxi_k. */
+static void shape_gradients(int nv, const double *q, double (*dN)[3])
+{
+    static const double dL[4][3] = {{-1, -1, -1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    double L[4] = {1.0 - q[0] - q[1] - q[2], q[0], q[1], q[2]};
+    if (nv == 4) {
+        memcpy(dN, dL, sizeof dL);
+        return;
+    }
+    for (int a = 0; a < 4; a++)
+        for (int k = 0; k < 3; k++) dN[a][k] = (4.0 * L[a] - 1.0) * dL[a][k];
+    for (int s = 0; s < 6; s++) {
+        int i = kt_tet_edge[s][0], j = kt_tet_edge[s][1];
+        for (int k = 0; k < 3; k++) dN[4 + s][k] = 4.0 * (L[i] * dL[j][k] + L[j] * dL[i][k]);
+    }
+}
+
+/* Physical gradients g[a] = J^-T dN[a] and det J, J_ik = dx_i / dxi_k. */
+static double physical_gradients(int nv, const double *x, double (*dN)[3], double (*g)[3])
+{
+    double J[3][3] = {{0}};
+    for (int a = 0; a < nv; a++)
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < 3; k++) J[i][k] += x[3 * a + i] * dN[a][k];
+    double C[3][3]; /* cofactors: J^-1 = C^T / det */
+    C[0][0] = J[1][1] * J[2][2] - J[1][2] * J[2][1];
+    C[0][1] = J[1][2] * J[2][0] - J[1][0] * J[2][2];
+    C[0][2] = J[1][0] * J[2][1] - J[1][1] * J[2][0];
+    C[1][0] = J[0][2] * J[2][1] - J[0][1] * J[2][2];
+    C[1][1] = J[0][0] * J[2][2] - J[0][2] * J[2][0];
+    C[1][2] = J[0][1] * J[2][0] - J[0][0] * J[2][1];
+    C[2][0] = J[0][1] * J[1][2] - J[0][2] * J[1][1];
+    C[2][1] = J[0][2] * J[1][0] - J[0][0] * J[1][2];
+    C[2][2] = J[0][0] * J[1][1] - J[0][1] * J[1][0];
+    double det = J[0][0] * C[0][0] + J[0][1] * C[0][1] + J[0][2] * C[0][2];
+    /* dN/dx_i = sum_k dN/dxi_k (J^-1)_ki = sum_k dN/dxi_k C_ik / det */
+    for (int a = 0; a < nv; a++)
+        for (int i = 0; i < 3; i++)
+            g[a][i] = (dN[a][0] * C[i][0] + dN[a][1] * C[i][1] + dN[a][2] * C[i][2]) / det;
+    return det;
+}
+
+/* ------------------------------------------------------------ element matrix */
+
+/* Ke(3a+i, 3b+j) += w (lam g_a,i g_b,j + mu g_a,j g_b,i + mu delta_ij g_a . g_b), b <= a. */
+static void add_point(int nv, double (*g)[3], double w, double lam, double mu, double *Ke)
+{
+    int ld = 3 * nv;
+    for (int a = 0; a < nv; a++)
+        for (int b = 0; b <= a; b++) {
+            double dot = g[a][0] * g[b][0] + g[a][1] * g[b][1] + g[a][2] * g[b][2];
+            double *K = Ke + (size_t)3 * a * ld + 3 * b;
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++)
+                    K[i * ld + j] += w * (lam * g[a][i] * g[b][j] + mu * g[a][j] * g[b][i] +
+                                          (i == j ? mu * dot : 0.0));
+        }
+}
+
+/* Copy the lower node blocks to the upper ones. */
+static void mirror(int nv, double *Ke)
+{
+    int ld = 3 * nv;
+    for (int r = 0; r < ld; r++)
+        for (int s = r + 1; s < ld; s++) Ke[r * ld + s] = Ke[s * ld + r];
+}
+
+/* A P2 tet is straight when every edge node sits at its edge's midpoint (to round-off). */
+static int is_straight(const double *x)
+{
+    for (int s = 0; s < 6; s++) {
+        const double *p = x + 3 * kt_tet_edge[s][0], *q = x + 3 * kt_tet_edge[s][1], *m = x + 12 + 3 * s;
+        double len2 = 0, dev2 = 0, big = 0;
+        for (int k = 0; k < 3; k++) {
+            double d = m[k] - 0.5 * (p[k] + q[k]);
+            dev2 += d * d;
+            len2 += (q[k] - p[k]) * (q[k] - p[k]);
+            big = fmax(big, fmax(fabs(p[k]), fabs(q[k])));
+        }
+        double tol = 1e-13 * sqrt(len2) + 8 * 2.2e-16 * big;
+        if (dev2 > tol * tol) return 0;
+    }
+    return 1;
+}
+
+/* Longest vertex-to-vertex edge, the length scale of a degenerate-element test. */
+static double longest_edge(const double *x)
+{
+    double h2 = 0;
+    for (int s = 0; s < 6; s++) {
+        const double *p = x + 3 * kt_tet_edge[s][0], *q = x + 3 * kt_tet_edge[s][1];
+        double d2 = 0;
+        for (int k = 0; k < 3; k++) d2 += (q[k] - p[k]) * (q[k] - p[k]);
+        h2 = fmax(h2, d2);
+    }
+    return sqrt(h2);
+}
+
+static int check_material(kt_material mat, kt_err *e)
+{
+    if (!(mat.E > 0) || !isfinite(mat.E))
+        return kt_fail(e, KT_EINPUT, "Young's modulus %g MPa (expected > 0)", mat.E);
+    if (!(mat.nu > -1.0 && mat.nu < 0.5))
+        return kt_fail(e, KT_EINPUT, "Poisson ratio %g (expected -1 < nu < 0.5)", mat.nu);
+    return KT_OK;
+}
+
+int kt_fem_tet_stiffness(int order, const double *x, kt_material mat, double *Ke, kt_err *e)
+{
+    if (order != 1 && order != 2)
+        return kt_fail(e, KT_EINPUT, "element order %d (expected 1 or 2)", order);
+    if (check_material(mat, e)) return e->code;
+    int nv = kt_tet_nv(order);
+    double lam = mat.E * mat.nu / ((1 + mat.nu) * (1 - 2 * mat.nu));
+    double mu = mat.E / (2 * (1 + mat.nu));
+    /* det J below this is a flat (degenerate) element rather than a usable sliver */
+    double h = longest_edge(x), tiny = 1e-12 * h * h * h;
+    static const double CENTROID[1][3] = {{0.25, 0.25, 0.25}};
+    static const double W1[1] = {1.0 / 6};
+    tet_rule rule = {1, CENTROID, W1}; /* P1: constant strain, one point is exact */
+    if (order == 2) {
+        if (is_straight(x)) rule = (tet_rule){4, Q4_P, Q4_W};
+        else rule = (tet_rule){14, Q14_P, Q14_W};
+    }
+    memset(Ke, 0, sizeof(double) * 9 * nv * nv);
+    double dN[10][3], g[10][3];
+    for (int q = 0; q < rule.n; q++) {
+        shape_gradients(nv, rule.p[q], dN);
+        double det = physical_gradients(nv, x, dN, g);
+        if (!(det > tiny))
+            return kt_fail(e, KT_ERUN,
+                           "%s element: Jacobian determinant %.3g at quadrature point %d of %d "
+                           "(longest edge %.3g mm)",
+                           det < 0 ? "inverted" : "degenerate", det, q + 1, rule.n, h);
+        add_point(nv, g, rule.w[q] * det, lam, mu, Ke);
+    }
+    mirror(nv, Ke);
+    return KT_OK;
+}
+
+/* ------------------------------------------------------------------ pattern */
+
+/* Node adjacency, lower part: for node j, Ni[Np[j]..Np[j+1]) lists j itself and then, in
+ * increasing order, every node i > j that shares a tet with j. */
+typedef struct node_pattern {
+    int *Np, *Ni;
+} node_pattern;
+
+static void pattern_free(node_pattern *P)
+{
+    free(P->Np);
+    free(P->Ni);
+}
+
+static int cmp_int(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Gather node j's neighbours i > j into list (marking them in mark), return the count. */
+static int gather(const kt_mesh *m, int j, const int *Ep, const int *Ei, int *mark, int *list)
+{
+    int nv = kt_tet_nv(m->order), cnt = 0;
+    mark[j] = j;
+    list[cnt++] = j;
+    for (int q = Ep[j]; q < Ep[j + 1]; q++) {
+        const int *t = m->tet + (size_t)Ei[q] * nv;
+        for (int a = 0; a < nv; a++)
+            if (t[a] > j && mark[t[a]] != j) {
+                mark[t[a]] = j;
+                list[cnt++] = t[a];
+            }
+    }
+    return cnt;
+}
+
+static int build_pattern(const kt_mesh *m, node_pattern *P, kt_err *e)
+{
+    memset(P, 0, sizeof *P);
+    int *Ep = NULL, *Ei = NULL;
+    if (kt_mesh_node_tets(m, &Ep, &Ei, e)) return e->code;
+    int nv = kt_tet_nv(m->order), maxdeg = 1; /* a gather writes at most 1 + nv per tet */
+    for (int j = 0; j < m->nn; j++) {
+        int d = (Ep[j + 1] - Ep[j]) * nv + 1;
+        if (d > maxdeg) maxdeg = d;
+    }
+    int *mark = kt_calloc(m->nn ? m->nn : 1, sizeof(int), e);
+    int *list = kt_calloc(maxdeg, sizeof(int), e);
+    P->Np = kt_calloc((size_t)m->nn + 1, sizeof(int), e);
+    if (e->code) goto done;
+    for (int i = 0; i < m->nn; i++) mark[i] = -1;
+    size_t total = 0;
+    for (int j = 0; j < m->nn; j++) {
+        total += gather(m, j, Ep, Ei, mark, list);
+        if (total > INT_MAX) {
+            kt_fail(e, KT_ERUN, "node adjacency too large for a 32-bit CHOLMOD matrix");
+            goto done;
+        }
+        P->Np[j + 1] = (int)total;
+    }
+    P->Ni = kt_calloc(total ? total : 1, sizeof(int), e);
+    if (e->code) goto done;
+    for (int i = 0; i < m->nn; i++) mark[i] = -1;
+    for (int j = 0; j < m->nn; j++) {
+        int cnt = gather(m, j, Ep, Ei, mark, P->Ni + P->Np[j]);
+        qsort(P->Ni + P->Np[j] + 1, cnt - 1, sizeof(int), cmp_int);
+    }
+done:
+    free(Ep);
+    free(Ei);
+    free(mark);
+    free(list);
+    if (e->code) pattern_free(P);
+    return e->code;
+}
+
+/* Entries of the DOF matrix: node j's column block holds a 3x3 lower-triangular diagonal block
+ * (6 entries) and a full 3x3 block for each neighbour i > j. */
+static size_t dof_nnz(const kt_mesh *m, const node_pattern *P)
+{
+    size_t nnz = 0;
+    for (int j = 0; j < m->nn; j++) nnz += 6 + 9 * (size_t)(P->Np[j + 1] - P->Np[j] - 1);
+    return nnz;
+}
+
+static void fill_structure(const kt_mesh *m, const node_pattern *P, cholmod_sparse *A)
+{
+    int *Ap = A->p, *Ai = A->i, q = 0;
+    for (int j = 0; j < m->nn; j++)
+        for (int c = 0; c < 3; c++) {
+            Ap[3 * j + c] = q;
+            for (int r = c; r < 3; r++) Ai[q++] = 3 * j + r;
+            for (int k = P->Np[j] + 1; k < P->Np[j + 1]; k++)
+                for (int r = 0; r < 3; r++) Ai[q++] = 3 * P->Ni[k] + r;
+        }
+    Ap[3 * m->nn] = q;
+}
+
+/* ----------------------------------------------------------------- assembly */
+
+static int check_inputs(const kt_mesh *m, const kt_materials *mats, kt_err *e)
+{
+    if (m->order != 1 && m->order != 2)
+        return kt_fail(e, KT_EINPUT, "mesh order %d (expected 1 or 2)", m->order);
+    if (m->nn <= 0 || m->nn > INT_MAX / 3)
+        return kt_fail(e, KT_EINPUT, "mesh has %d nodes (expected 1 to %d)", m->nn, INT_MAX / 3);
+    int nv = kt_tet_nv(m->order);
+    for (int el = 0; el < m->ne; el++) {
+        for (int a = 0; a < nv; a++) {
+            int n = m->tet[(size_t)el * nv + a];
+            if (n < 0 || n >= m->nn)
+                return kt_fail(e, KT_EINPUT, "tet %d names node %d (mesh has %d nodes)", el + 1,
+                               n + 1, m->nn);
+        }
+        int t = m->tet_tag[el];
+        if (t < 0 || t >= mats->nmat)
+            return kt_fail(e, KT_EINPUT, "tet %d has region tag %d with no material (%d given)",
+                           el + 1, t, mats->nmat);
+    }
+    for (int t = 0; t < mats->nmat; t++) {
+        kt_err le = {0};
+        if (kt_mesh_find_tag(m, 3, t) && check_material(mats->mat[t], &le))
+            return kt_fail(e, le.code, "region %d: %s", t, le.msg);
+    }
+    return KT_OK;
+}
+
+/* Position of K(3i+r, 3j+c), i >= j, in node j's column block; k is i's index in j's list. */
+static int entry_at(const int *Ap, int j, int c, int i, int r, int k)
+{
+    return Ap[3 * j + c] + (i == j ? r - c : (3 - c) + 3 * (k - 1) + r);
+}
+
+/* Index of node i in node j's neighbour list (0 when i == j). */
+static int find_neighbour(const node_pattern *P, int j, int i)
+{
+    if (i == j) return 0;
+    const int *lo = P->Ni + P->Np[j] + 1;
+    const int *hit = bsearch(&i, lo, P->Np[j + 1] - P->Np[j] - 1, sizeof(int), cmp_int);
+    return hit ? (int)(hit - lo) + 1 : -1;
+}
+
+/* Add one element matrix into the lower triangle of A. */
+static void scatter(const node_pattern *P, const int *t, int nv, const double *Ke, cholmod_sparse *A)
+{
+    const int *Ap = A->p;
+    double *Ax = A->x;
+    int ld = 3 * nv;
+    for (int b = 0; b < nv; b++)
+        for (int a = 0; a < nv; a++) {
+            int i = t[a], j = t[b];
+            if (i < j) continue;
+            int k = find_neighbour(P, j, i);
+            for (int c = 0; c < 3; c++)
+                for (int r = (i == j ? c : 0); r < 3; r++)
+                    Ax[entry_at(Ap, j, c, i, r, k)] += Ke[(3 * a + r) * ld + 3 * b + c];
+        }
+}
+
+static int add_elements(const kt_mesh *m, const kt_materials *mats, const node_pattern *P,
+                        cholmod_sparse *A, kt_err *e)
+{
+    int nv = kt_tet_nv(m->order);
+    double x[30], Ke[900];
+    for (int el = 0; el < m->ne; el++) {
+        const int *t = m->tet + (size_t)el * nv;
+        for (int a = 0; a < nv; a++) memcpy(x + 3 * a, m->xyz + 3 * (size_t)t[a], 3 * sizeof(double));
+        kt_err le = {0};
+        if (kt_fem_tet_stiffness(m->order, x, mats->mat[m->tet_tag[el]], Ke, &le))
+            return kt_fail(e, le.code, "tet %d (region %d): %s", el + 1, m->tet_tag[el], le.msg);
+        scatter(P, t, nv, Ke, A);
+    }
+    return KT_OK;
+}
+
+/* Replace rows and columns of fixed DOFs by the identity, dropping their entries in place. */
+static void apply_fixed(cholmod_sparse *A, const unsigned char *fixed)
+{
+    int *Ap = A->p, *Ai = A->i, n = (int)A->ncol, q = 0;
+    double *Ax = A->x;
+    for (int j = 0; j < n; j++) {
+        int start = Ap[j], end = Ap[j + 1];
+        Ap[j] = q;
+        for (int p = start; p < end; p++) {
+            int i = Ai[p];
+            if (fixed[i] || fixed[j]) {
+                if (i != j) continue;
+                Ai[q] = i;
+                Ax[q++] = 1.0;
+            } else {
+                Ai[q] = i;
+                Ax[q++] = Ax[p];
+            }
+        }
+    }
+    Ap[n] = q;
+}
+
+cholmod_sparse *kt_fem_assemble(const kt_mesh *m, const kt_materials *mats,
+                                const unsigned char *fixed, cholmod_common *c, kt_err *e)
+{
+    if (check_inputs(m, mats, e)) return NULL;
+    node_pattern P;
+    if (build_pattern(m, &P, e)) return NULL;
+    size_t nnz = dof_nnz(m, &P), n = 3 * (size_t)m->nn;
+    if (nnz > INT_MAX) {
+        pattern_free(&P);
+        kt_fail(e, KT_ERUN, "stiffness matrix has %zu entries, too many for 32-bit CHOLMOD", nnz);
+        return NULL;
+    }
+    cholmod_sparse *A = cholmod_allocate_sparse(n, n, nnz, 1, 1, -1, CHOLMOD_REAL, c);
+    if (!A) {
+        pattern_free(&P);
+        kt_fail(e, KT_ERUN, "CHOLMOD could not allocate a %zu x %zu matrix with %zu entries "
+                "(status %d)", n, n, nnz, c->status);
+        return NULL;
+    }
+    fill_structure(m, &P, A);
+    memset(A->x, 0, nnz * sizeof(double));
+    int rc = add_elements(m, mats, &P, A, e);
+    pattern_free(&P);
+    if (rc) {
+        cholmod_free_sparse(&A, c);
+        return NULL;
+    }
+    if (fixed) {
+        apply_fixed(A, fixed);
+        cholmod_reallocate_sparse(cholmod_nnz(A, c), A, c); /* give back the dropped entries */
+    }
+    return A;
+}
+
+/* ------------------------------------------------------------ lift and solve */
+
+int kt_fem_lift(const cholmod_sparse *K, const unsigned char *fixed, const double *g, double *f,
+                kt_err *e)
+{
+    if (K->xtype != CHOLMOD_REAL || K->itype != CHOLMOD_INT || K->nrow != K->ncol)
+        return kt_fail(e, KT_ERUN, "lift: expected a square real CHOLMOD matrix (int indices)");
+    if (!fixed) return KT_OK;
+    const int *Kp = K->p, *Ki = K->i, *Knz = K->nz;
+    const double *Kx = K->x;
+    int n = (int)K->ncol;
+    for (int j = 0; j < n; j++) {
+        int end = K->packed ? Kp[j + 1] : Kp[j] + Knz[j];
+        for (int p = Kp[j]; p < end; p++) {
+            int i = Ki[p];
+            if (i == j || (K->stype < 0 && i < j) || (K->stype > 0 && i > j)) continue;
+            double gj = g ? g[j] : 0.0, gi = g ? g[i] : 0.0;
+            if (!fixed[i] && fixed[j]) f[i] -= Kx[p] * gj;
+            if (K->stype != 0 && fixed[i] && !fixed[j]) f[j] -= Kx[p] * gi; /* mirrored entry */
+        }
+    }
+    for (int i = 0; i < n; i++)
+        if (fixed[i]) f[i] = g ? g[i] : 0.0;
+    return KT_OK;
+}
+
+/* A dense column wrapped around caller memory (no copy). */
+static double norm2(const double *x, size_t n)
+{
+    double s = 0;
+    for (size_t i = 0; i < n; i++) s += x[i] * x[i];
+    return sqrt(s);
+}
+
+/* || |A| |x| + |b| ||_2: the size of the terms that the residual A x - b sums, so the floor
+ * that rounding alone puts under it (A symmetric, one triangle stored). */
+static double residual_scale(const cholmod_sparse *A, const double *x, const double *b, double *s)
+{
+    const int *Ap = A->p, *Ai = A->i;
+    const double *Ax = A->x;
+    size_t n = A->ncol;
+    for (size_t i = 0; i < n; i++) s[i] = fabs(b[i]);
+    for (size_t j = 0; j < n; j++)
+        for (int p = Ap[j]; p < Ap[j + 1]; p++) {
+            size_t i = Ai[p];
+            s[i] += fabs(Ax[p] * x[j]);
+            if (i != j) s[j] += fabs(Ax[p] * x[i]);
+        }
+    return norm2(s, n);
+}
+
+/* u = A \ b, checked: ||A u - b|| <= 1e-10 || |A||u| + |b| ||. The plain ||A u - b|| / ||b||
+ * cannot meet 1e-10 on a slender body: a double u has a residual floor near
+ * eps || |A||u| ||, and a bending cantilever's |A||u| is 1e5 times |b| (see test_fem_beam). */
+static int solve_checked(cholmod_sparse *A, double *b, double *u, cholmod_common *c, kt_err *e)
+{
+    size_t n = A->nrow;
+    cholmod_factor *L = kt_chol_analyze_factor(A, c, "direct solve", e);
+    if (!L) return e->code;
+    cholmod_dense B = kt_chol_column(b, n);
+    cholmod_dense *X = cholmod_solve(CHOLMOD_A, L, &B, c);
+    cholmod_free_factor(&L, c);
+    if (!X) return kt_fail(e, KT_ERUN, "CHOLMOD solve failed (status %d)", c->status);
+    double *r = kt_calloc(n, sizeof(double), e), *s = kt_calloc(n, sizeof(double), e);
+    if (e->code) {
+        free(r);
+        free(s);
+        cholmod_free_dense(&X, c);
+        return e->code;
+    }
+    memcpy(r, b, n * sizeof(double));
+    cholmod_dense R = kt_chol_column(r, n);
+    double one[2] = {1, 0}, minus_one[2] = {-1, 0};
+    cholmod_sdmult(A, 0, one, minus_one, X, &R, c); /* r = A x - b */
+    memcpy(u, X->x, n * sizeof(double));
+    cholmod_free_dense(&X, c);
+    double nr = norm2(r, n), nb = norm2(b, n), scale = residual_scale(A, u, b, s);
+    free(r);
+    free(s);
+    if (!(nr <= 1e-10 * scale))
+        return kt_fail(e, KT_ERUN,
+                       "direct solve: residual ||K u - f|| = %.3g is %.3g of || |K||u| + |f| || "
+                       "(limit 1e-10) and %.3g of ||f||", nr, nr / scale, nb > 0 ? nr / nb : nr);
+    return KT_OK;
+}
+
+int kt_fem_solve(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
+                 const double *g, const double *f, double *u, cholmod_common *c, kt_err *e)
+{
+    cholmod_sparse *K = kt_fem_assemble(m, mats, NULL, c, e);
+    if (!K) return e->code;
+    size_t n = K->nrow;
+    double *b = kt_calloc(n, sizeof(double), e);
+    if (!b) {
+        cholmod_free_sparse(&K, c);
+        return e->code;
+    }
+    memcpy(b, f, n * sizeof(double));
+    if (fixed) {
+        kt_fem_lift(K, fixed, g, b, e);
+        apply_fixed(K, fixed);
+    }
+    if (!e->code) solve_checked(K, b, u, c, e);
+    free(b);
+    cholmod_free_sparse(&K, c);
+    return e->code;
+}

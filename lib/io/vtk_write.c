@@ -1,0 +1,212 @@
+/* vtk_write.c: legacy VTK (4.2-compatible, "Version 3.0" header) writer for UNSTRUCTURED_GRID
+ * and POLYDATA with POINT_DATA / CELL_DATA. BINARY files are big-endian. */
+#include "vtk.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "vtk_int.h"
+
+/* ------------------------------------------------------------------------------------------ */
+/* Writer                                                                                      */
+
+typedef struct vw {
+    FILE *f;
+    int bin, swap;
+} vw;
+
+static void put_be(vw *w, const void *src, size_t size)
+{
+    unsigned char b[8];
+    const unsigned char *s = src;
+    for (size_t i = 0; i < size; i++) b[i] = w->swap ? s[size - 1 - i] : s[i];
+    fwrite(b, 1, size, w->f);
+}
+
+/* n doubles, per_line to a line in ASCII. */
+static void put_doubles(vw *w, const double *v, size_t n, int per_line)
+{
+    for (size_t i = 0; i < n; i++) {
+        if (w->bin) put_be(w, &v[i], 8);
+        else fprintf(w->f, "%.17g%c", v[i], (i + 1) % (size_t)per_line == 0 ? '\n' : ' ');
+    }
+}
+
+static void put_ints(vw *w, const int *v, size_t n, int per_line)
+{
+    for (size_t i = 0; i < n; i++) {
+        if (w->bin) {
+            int32_t x = v[i];
+            put_be(w, &x, 4);
+        } else {
+            fprintf(w->f, "%d%c", v[i], (i + 1) % (size_t)per_line == 0 ? '\n' : ' ');
+        }
+    }
+}
+
+static void end_block(vw *w)
+{
+    if (w->bin) fputc('\n', w->f);
+}
+
+static void write_header(vw *w, const char *title, const char *dataset, int nn, const double *xyz)
+{
+    fprintf(w->f, "# vtk DataFile Version 3.0\n%s\n%s\nDATASET %s\nPOINTS %d double\n", title,
+            w->bin ? "BINARY" : "ASCII", dataset, nn);
+    put_doubles(w, xyz, 3 * (size_t)nn, 3);
+    end_block(w);
+}
+
+static int check_fields(const kt_vtk_field *f, int nf, int reserve_region, kt_err *e)
+{
+    for (int i = 0; i < nf; i++) {
+        const char *n = f[i].name;
+        if (!n[0] || strpbrk(n, " \t\r\n"))
+            return kt_fail(e, KT_EINPUT, "VTK field name '%s': expected a non-empty name without blanks", n);
+        if (f[i].ncomp < 1 || f[i].ncomp > 4)
+            return kt_fail(e, KT_EINPUT, "VTK field '%s': expected 1 to 4 components, got %d", n, f[i].ncomp);
+        if (reserve_region && f[i].on_cells && strcmp(n, "region") == 0)
+            return kt_fail(e, KT_EINPUT, "VTK field 'region' on cells is written from the mesh's tags");
+        for (int j = 0; j < i; j++)
+            if (f[j].on_cells == f[i].on_cells && strcmp(f[j].name, n) == 0)
+                return kt_fail(e, KT_EINPUT, "VTK field '%s' given twice", n);
+    }
+    return KT_OK;
+}
+
+/* One attribute: SCALARS (LOOKUP_TABLE default) or VECTORS for 3 components. */
+static int put_field(vw *w, const kt_vtk_field *f, size_t count, kt_err *e)
+{
+    const char *type = f->is_int ? "int" : "double";
+    if (f->ncomp == 3) fprintf(w->f, "VECTORS %s %s\n", f->name, type);
+    else fprintf(w->f, "SCALARS %s %s %d\nLOOKUP_TABLE default\n", f->name, type, f->ncomp);
+    size_t n = count * (size_t)f->ncomp;
+    if (!f->is_int) {
+        put_doubles(w, f->v, n, f->ncomp);
+    } else {
+        for (size_t i = 0; i < n; i++) {
+            double x = f->v[i];
+            if (!(x >= INT_MIN && x <= INT_MAX) || x != floor(x))
+                return kt_fail(e, KT_EINPUT, "VTK int field '%s': value %g at %zu is not an int",
+                               f->name, x, i);
+            int k = (int)x;
+            if (w->bin) put_be(w, &(int32_t){k}, 4);
+            else fprintf(w->f, "%d%c", k, (i + 1) % (size_t)f->ncomp == 0 ? '\n' : ' ');
+        }
+    }
+    end_block(w);
+    return KT_OK;
+}
+
+static int put_fields(vw *w, const kt_vtk_field *f, int nf, int on_cells, size_t count, kt_err *e)
+{
+    for (int i = 0; i < nf; i++)
+        if (f[i].on_cells == on_cells && put_field(w, &f[i], count, e)) return e->code;
+    return KT_OK;
+}
+
+static int count_fields(const kt_vtk_field *f, int nf, int on_cells)
+{
+    int k = 0;
+    for (int i = 0; i < nf; i++) k += f[i].on_cells == on_cells;
+    return k;
+}
+
+static int write_tets(vw *w, const kt_mesh *m, const kt_vtk_field *f, int nf, kt_err *e)
+{
+    int nv = kt_tet_nv(m->order);
+    char title[64];
+    snprintf(title, sizeof title, "keratome tetrahedra order %d", m->order);
+    write_header(w, title, "UNSTRUCTURED_GRID", m->nn, m->xyz);
+    fprintf(w->f, "CELLS %d %zu\n", m->ne, (size_t)m->ne * (size_t)(nv + 1));
+    for (int i = 0; i < m->ne; i++) {
+        int row[11];
+        row[0] = nv;
+        for (int j = 0; j < nv; j++)
+            row[1 + j] = m->tet[(size_t)nv * i + (nv == 10 ? gmsh_to_vtk_tet10[j] : j)];
+        put_ints(w, row, (size_t)nv + 1, nv + 1);
+    }
+    end_block(w);
+    fprintf(w->f, "CELL_TYPES %d\n", m->ne);
+    int type = m->order == 2 ? VTK_QUADRATIC_TETRA : VTK_TETRA;
+    for (int i = 0; i < m->ne; i++) put_ints(w, &type, 1, 1);
+    end_block(w);
+    fprintf(w->f, "CELL_DATA %d\nSCALARS region int 1\nLOOKUP_TABLE default\n", m->ne);
+    put_ints(w, m->tet_tag, (size_t)m->ne, 1);
+    end_block(w);
+    if (put_fields(w, f, nf, 1, (size_t)m->ne, e)) return e->code;
+    if (count_fields(f, nf, 0)) {
+        fprintf(w->f, "POINT_DATA %d\n", m->nn);
+        if (put_fields(w, f, nf, 0, (size_t)m->nn, e)) return e->code;
+    }
+    return KT_OK;
+}
+
+static int write_poly(vw *w, int nn, const double *xyz, int ntri, const int *tri,
+                      const kt_vtk_field *f, int nf, kt_err *e)
+{
+    write_header(w, "keratome triangles", "POLYDATA", nn, xyz);
+    fprintf(w->f, "POLYGONS %d %zu\n", ntri, 4 * (size_t)ntri);
+    for (int i = 0; i < ntri; i++) {
+        int row[4] = {3, tri[3 * (size_t)i], tri[3 * (size_t)i + 1], tri[3 * (size_t)i + 2]};
+        put_ints(w, row, 4, 4);
+    }
+    end_block(w);
+    if (count_fields(f, nf, 1)) {
+        fprintf(w->f, "CELL_DATA %d\n", ntri);
+        if (put_fields(w, f, nf, 1, (size_t)ntri, e)) return e->code;
+    }
+    if (count_fields(f, nf, 0)) {
+        fprintf(w->f, "POINT_DATA %d\n", nn);
+        if (put_fields(w, f, nf, 0, (size_t)nn, e)) return e->code;
+    }
+    return KT_OK;
+}
+
+static int check_nodes(const int *el, size_t n, int nn, const char *what, kt_err *e)
+{
+    for (size_t i = 0; i < n; i++)
+        if (el[i] < 0 || el[i] >= nn)
+            return kt_fail(e, KT_EINPUT, "VTK output: %s %zu refers to node %d of %d", what,
+                           i, el[i], nn);
+    return KT_OK;
+}
+
+int kt_vtk_write_tets(const char *path, const kt_mesh *m, const kt_vtk_field *f, int nf,
+                      int binary, kt_err *e)
+{
+    if (m->order != 1 && m->order != 2)
+        return kt_fail(e, KT_EINPUT, "VTK output: mesh order %d, expected 1 or 2", m->order);
+    if (check_fields(f, nf, 1, e) ||
+        check_nodes(m->tet, (size_t)m->ne * kt_tet_nv(m->order), m->nn, "tet node entry", e))
+        return e->code;
+    kt_out o;
+    if (kt_out_open(&o, path, e)) return e->code;
+    vw w = {o.f, binary, host_is_little()};
+    if (write_tets(&w, m, f, nf, e)) {
+        kt_out_abort(&o);
+        return e->code;
+    }
+    return kt_out_commit(&o, e);
+}
+
+int kt_vtk_write_polydata(const char *path, int nn, const double *xyz, int ntri, const int *tri,
+                          const kt_vtk_field *f, int nf, int binary, kt_err *e)
+{
+    if (check_fields(f, nf, 0, e) || check_nodes(tri, 3 * (size_t)ntri, nn, "triangle node entry", e))
+        return e->code;
+    kt_out o;
+    if (kt_out_open(&o, path, e)) return e->code;
+    vw w = {o.f, binary, host_is_little()};
+    if (write_poly(&w, nn, xyz, ntri, tri, f, nf, e)) {
+        kt_out_abort(&o);
+        return e->code;
+    }
+    return kt_out_commit(&o, e);
+}
+

@@ -1,0 +1,36 @@
+/* eye.h: the parametric eye (anterior segment or whole globe) meshed with the gmsh C API.
+ *
+ * Frame: the eye's optical axis is +z (towards the observer), the corneal apex on the axis.
+ * Seen from the front (from +z), x points to the examiner's right and y up, so a meridian at
+ * angle t (degrees, counter-clockwise from +x, the standard TABO convention) is the direction
+ * (cos t, sin t, 0). The anterior cornea is toric: radius r_ant_steep in the steep meridian,
+ * r_ant_flat at 90 degrees from it.
+ *
+ * Groups written (names are the contract other tools rely on):
+ *   regions (dim 3):  "cornea" 1, "limbus" 2, "sclera" 3
+ *   surfaces (dim 2): "anterior" 1  anterior corneal surface (cornea region only)
+ *                     "inner"    2  posterior cornea + inner limbus/sclera: IOP acts here
+ *                     "fixed"    3  where the model is cut off (absent for the whole globe)
+ *                     "outer"    4  outer surface of limbus and sclera
+ *                     ring k     10+k  the scene's incision-ready surfaces, named by the scene
+ *                                      ("incision-ring-1", ...), embedded in the volume */
+#ifndef KT_EYE_H
+#define KT_EYE_H
+
+#include "mesh.h"
+#include "eye_geom.h"
+
+/* Mesh the eye at the given element order; progress on stderr unless quiet. Fails (KT_ERUN)
+ * when gmsh fails or returns no tets, and (KT_EINPUT) on inconsistent geometry (an incision
+ * ring outside the cornea and limbus, deeper than the local thickness). */
+int kt_eye_mesh(const kt_eye *eye, int order, int quiet, kt_mesh *m, kt_err *e);
+
+/* The cornea and optical-zone element sizes the mesher uses at an element order: the scene's,
+ * at most t_central / 2.5 for order 1 (two linear tets or more through the corneal thickness)
+ * and t_central for order 2 (keratome-scene(5), mesh_size). */
+void kt_eye_sizes(const kt_eye *eye, int order, double *h_cornea, double *h_optical);
+/* The divisor of that rule: 2.5 for order 1, 1 for order 2. */
+double kt_eye_layers(int order);
+
+
+#endif

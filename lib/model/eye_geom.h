@@ -1,0 +1,92 @@
+/* eye_geom.h: analytic geometry of the parametric eye (internal to the eye module: eye.c and
+ * eye_geom.c). Public entry points are in eye.h.
+ *
+ * Profile plane: (rho, z), rho = sqrt(x^2 + y^2) >= 0, the eye axis z. The globe centre is the
+ * origin; the outer sclera is the sphere |p| = Rg, the inner one |p| = Ri = Rg - sclera.
+ *
+ *            A0 (apex, z_apex)
+ *      anterior sphere (mean radius Ra, centre Ca on the axis), toric after the node warp
+ *          .-''''-.         E  corneal edge (rho = wtw/2) on the outer globe sphere
+ *        /  cornea  \ E___ Lo   limbus outer edge (rho = wtw/2 + limbus_width)
+ *       |  .-'''-.   |limbus|   sclera: shell Ri..Rg from Lo/Li to the polar angle `extent`
+ *          Pv     Pp ---- Li
+ *   posterior conic (apical radius r_post, vertex Pv = apex - t_central, through Pp) */
+#ifndef KT_EYE_GEOM_H
+#define KT_EYE_GEOM_H
+
+#include "mesh.h"
+
+/* The eye's parameters as the scene gives them (internal units mm, degrees). */
+#define KT_SCENE_MAX 16
+
+/* An incision-ready surface of the eye: a ring cut into the cornea from the anterior surface. */
+typedef struct kt_ring {
+    char name[KT_NAME_MAX];     /* mesh surface group name, e.g. "incision-ring-1" */
+    double diameter;            /* optical-zone diameter of the ring, mm */
+    double depth;               /* depth below the anterior surface, mm (if depth_fraction 0) */
+    double depth_fraction;      /* or a fraction of the local corneal thickness */
+} kt_ring;
+
+typedef struct kt_eye {
+    double r_ant_steep, r_ant_flat; /* anterior corneal radii in the steep/flat meridians, mm */
+    double steep_axis;              /* steep meridian, deg (ophthalmic convention, 0..180) */
+    double r_post;                  /* posterior corneal radius, mm */
+    double t_central, t_peripheral; /* corneal thickness at the apex and at the limbus, mm */
+    double wtw;                     /* white-to-white (corneal) diameter, mm */
+    double limbus_width;            /* width of the limbal zone, mm */
+    double sclera_thickness;        /* scleral thickness at the limbus, mm */
+    double globe_radius;            /* outer scleral radius, mm */
+    double extent;                  /* polar angle where the model is cut off, deg (180: whole globe) */
+    double optical_zone;            /* diameter of the refined central zone, mm */
+    double h_optical, h_incision, h_cornea, h_sclera; /* element sizes, mm */
+    int nring;
+    kt_ring ring[KT_SCENE_MAX];
+} kt_eye;
+
+typedef struct kt_eye_geom {
+    double cs, cf;          /* steep and flat anterior curvatures, 1/mm */
+    double cos_ax, sin_ax;  /* steep meridian direction (TABO angle) */
+    double Ra;              /* mean anterior radius: 1/Ra = (cs + cf)/2 */
+    double rc, rL;          /* radial distance of the corneal edge and of the limbus outer edge */
+    double Rg, Ri;          /* outer and inner scleral radii */
+    double z_apex, z_ca;    /* apex height, anterior sphere centre height */
+    double phic;            /* half-angle at Ca of the cone through the corneal edge */
+    double alphaL, alphaX;  /* polar angles (about the origin) of the limbus edge and model cut */
+    double E[2], Pp[2], Lo[2], Li[2], So[2], Si[2]; /* profile points (rho, z) */
+    double z_pv, Rp, k;     /* posterior vertex height, apical radius, k = 1 + Q (conic) */
+    int whole;              /* extent = 180 deg: closed globe, no rim */
+} kt_eye_geom;
+
+/* Derive and validate the geometry; inconsistent dimensions are KT_EINPUT. */
+int kt_eye_geom_init(const kt_eye *eye, kt_eye_geom *g, kt_err *e);
+
+/* The exact toric (biconic) anterior corneal surface height at (x, y); NAN where undefined. */
+double kt_eye_geom_toric_z(const kt_eye_geom *g, double x, double y);
+/* The rotationally symmetric base surfaces: mean anterior sphere, posterior conic, globe. */
+double kt_eye_geom_sphere_z(const kt_eye_geom *g, double rho);
+double kt_eye_geom_post_z(const kt_eye_geom *g, double rho);
+double kt_eye_geom_globe_z(const kt_eye_geom *g, double rho);
+
+/* Thickness of the base geometry at radial distance r: along the anterior normal in the
+ * cornea, along the globe radius in the limbus, the sclera thickness beyond. */
+double kt_eye_geom_thickness(const kt_eye_geom *g, double r);
+
+/* Weight of the toric warp at a base-geometry point: 1 on the anterior corneal surface,
+ * falling linearly to 0 at the posterior cornea, across the limbus to its scleral border. */
+double kt_eye_geom_weight(const kt_eye_geom *g, double rho, double z);
+
+/* Height of the outer surface of cornea and limbus after the warp (the "anterior z"). */
+double kt_eye_geom_outer_z(const kt_eye_geom *g, double x, double y);
+
+/* A ring's profile segment: top point on the outer surface, unit direction into the tissue
+ * (anterior normal in the cornea, globe radius in the limbus), depth. KT_EINPUT with the
+ * ring's name when it lies outside cornea and limbus, in the optical zone, or too deep. */
+int kt_eye_geom_ring(const kt_eye_geom *g, const kt_eye *eye, int i, double top[2],
+                     double dir[2], double *depth, kt_err *e);
+
+/* Height of the anterior surface over (x, y) and the corneal thickness at radial distance r
+ * (mm) of the eye with these parameters; NAN when the parameters are inconsistent. */
+double kt_eye_anterior_z(const kt_eye *eye, double x, double y);
+double kt_eye_thickness(const kt_eye *eye, double r);
+
+#endif

@@ -1,0 +1,675 @@
+/* scene.c: load and validate a scene YAML file (see man/man5/keratome-scene.5). */
+#include "scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "yml.h"
+
+#define PI 3.14159265358979323846
+
+static const char *const TOP_KEYS[] = {"name", "description", "model", "order", "ordering", "eye",
+                                       "box", "surface", "image", "materials", "loads",
+                                       "fixation", NULL};
+static const char *const MODELS[] = {"eye", "box", "surface", "image", NULL};
+static const char *const ORDERINGS[] = {"amd", "metis", "constrained", "natural", "metis-last", NULL};
+static const char *const FACES[] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax", "none", NULL};
+static const char *const AXES[] = {"x", "y", "z", NULL};
+
+/* Surface groups each model writes (the eye adds its incision rings, CGAL models 'below'). */
+static const char *const EYE_SURFACES[] = {"anterior", "inner", "fixed", "outer", NULL};
+static const char *const BOX_SURFACES[] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax", "fixed", NULL};
+static const char *const CGAL_SURFACES[] = {"boundary", NULL};
+static const char *const EYE_REGIONS[] = {"cornea", "limbus", "sclera", NULL};
+static const char *const BODY_REGIONS[] = {"body", NULL};
+
+/* Literature defaults of the eye; sources in man/man5/keratome-scene.5 and plans/eye.yaml. */
+static void eye_defaults(kt_eye *eye)
+{
+    memset(eye, 0, sizeof *eye);
+    eye->r_ant_steep = eye->r_ant_flat = 7.8; /* Le Grand schematic eye */
+    eye->steep_axis = 90.0;                   /* with-the-rule convention when toric */
+    eye->r_post = 6.7;                        /* schematic eyes 6.5 (Le Grand) - 6.8 (Gullstrand) */
+    eye->t_central = 0.54;                    /* Doughty & Zaman 2000 */
+    eye->t_peripheral = 0.67;                 /* Martola & Baum 1968 */
+    eye->wtw = 11.7;                          /* Rufer et al. 2005 */
+    eye->limbus_width = 1.0;                  /* Van Buskirk 1989: about 1-1.5 mm */
+    eye->sclera_thickness = 0.53;             /* Olsen et al. 1998, at the limbus */
+    eye->globe_radius = 12.0;                 /* axial length about 24 mm */
+    eye->extent = 90.0;                       /* anterior segment: cut at the equator */
+    eye->optical_zone = 7.0;
+    eye->h_optical = 0.25;
+    eye->h_incision = 0.15;
+    eye->h_cornea = 0.4;
+    eye->h_sclera = 1.2;
+}
+
+static void scene_defaults(kt_scene *s)
+{
+    memset(s, 0, sizeof *s);
+    s->model = KT_MODEL_EYE;
+    s->order = 1;
+    eye_defaults(&s->eye);
+    s->box.fixed_face = 4; /* zmin */
+    s->cgal.unit = 1.0;
+    s->ordering_centre = NAN;
+    s->ordering_sector = NAN;
+    s->ordering_halo = -1; /* default set once the model is known */
+    s->reference = KT_REFERENCE_LOADED; /* geometry = the measured (loaded) shape */
+    s->reference_tol = 3e-5;            /* mm (0.03 um): K within about 0.01 D at 3 mm */
+}
+
+/* Directory part of a path ("." when there is none). */
+static void dir_of(const char *path, char *dir, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(dir, size, ".");
+    else if (slash == path) snprintf(dir, size, "/");
+    else snprintf(dir, size, "%.*s", (int)(slash - path), path);
+}
+
+/* Default name: the file name without folder and extension. */
+static void base_name(const char *path, char *name, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    const char *b = slash ? slash + 1 : path;
+    const char *dot = strrchr(b, '.');
+    int len = dot && dot != b ? (int)(dot - b) : (int)strlen(b);
+    snprintf(name, size, "%.*s", len, b);
+}
+
+static int in_list(const char *const *list, const char *s)
+{
+    for (int i = 0; list && list[i]; i++)
+        if (strcmp(list[i], s) == 0) return 1;
+    return 0;
+}
+
+/* A group name usable in MSH physical names and shell commands. */
+static int valid_name(const char *s)
+{
+    for (; *s; s++)
+        if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') ||
+              *s == '-' || *s == '_' || *s == '.'))
+            return 0;
+    return 1;
+}
+
+static int name_field(kt_yml *y, const yaml_node_t *n, const char *what, char *buf, kt_err *e)
+{
+    if (kt_yml_string(y, n, what, buf, KT_NAME_MAX, e)) return e->code;
+    if (!valid_name(buf))
+        return kt_yml_fail(y, n, e, "%s: expected a name of letters, digits, '-', '_' or '.', got '%s'",
+                           what, buf);
+    return KT_OK;
+}
+
+static kt_yml_bounds range(double lo, double hi, int lo_open, int hi_open)
+{
+    kt_yml_bounds b = {lo, hi, lo_open, hi_open};
+    return b;
+}
+
+/* ---- eye ------------------------------------------------------------------------------- */
+
+static const char *const RING_KEYS[] = {"name", "diameter", "depth", "depth_fraction", NULL};
+
+static int parse_ring(kt_yml *y, const yaml_node_t *n, int i, kt_ring *r, kt_err *e)
+{
+    char what[64];
+    snprintf(what, sizeof what, "eye.incision_rings[%d]", i);
+    if (kt_yml_check_map(y, n, what, RING_KEYS, e)) return e->code;
+    snprintf(r->name, sizeof r->name, "incision-ring-%d", i + 1);
+    yaml_node_t *v = kt_yml_get(y, n, "name");
+    char f[96];
+    snprintf(f, sizeof f, "%s.name", what);
+    if (v && name_field(y, v, f, r->name, e)) return e->code;
+    if (!kt_yml_require(y, n, "diameter", what, e)) return e->code;
+    if (kt_yml_key_quantity(y, n, what, "diameter", KT_UNIT_LENGTH, KT_YML_POSITIVE, &r->diameter, e))
+        return e->code;
+    yaml_node_t *d = kt_yml_get(y, n, "depth"), *df = kt_yml_get(y, n, "depth_fraction");
+    if (!d == !df)
+        return kt_yml_fail(y, d ? d : n, e, "%s: expected exactly one of 'depth' or 'depth_fraction'", what);
+    if (kt_yml_key_quantity(y, n, what, "depth", KT_UNIT_LENGTH, KT_YML_POSITIVE, &r->depth, e))
+        return e->code;
+    return kt_yml_key_number(y, n, what, "depth_fraction", range(0, 1, 1, 1), &r->depth_fraction, e);
+}
+
+static int parse_rings(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
+{
+    if (kt_yml_check_seq(y, n, "eye.incision_rings", 0, KT_SCENE_MAX, e)) return e->code;
+    eye->nring = kt_yml_seq_len(n);
+    for (int i = 0; i < eye->nring; i++) {
+        yaml_node_t *item = kt_yml_seq_item(y, n, i);
+        if (parse_ring(y, item, i, &eye->ring[i], e)) return e->code;
+        const char *name = eye->ring[i].name;
+        if (in_list(EYE_SURFACES, name))
+            return kt_yml_fail(y, item, e, "eye.incision_rings[%d].name: expected a new name, '%s' is a surface of the eye",
+                               i, name);
+        for (int j = 0; j < i; j++)
+            if (strcmp(eye->ring[j].name, name) == 0)
+                return kt_yml_fail(y, item, e, "eye.incision_rings[%d].name: expected a unique name, '%s' is used twice",
+                                   i, name);
+    }
+    return KT_OK;
+}
+
+static const char *const SIZE_KEYS[] = {"optical_zone", "incision", "cornea", "sclera", NULL};
+
+static int parse_sizes(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
+{
+    const char *w = "eye.mesh_size";
+    if (kt_yml_check_map(y, n, w, SIZE_KEYS, e)) return e->code;
+    kt_yml_bounds b = range(0.005, 20, 0, 0);
+    if (kt_yml_key_quantity(y, n, w, "optical_zone", KT_UNIT_LENGTH, b, &eye->h_optical, e) ||
+        kt_yml_key_quantity(y, n, w, "incision", KT_UNIT_LENGTH, b, &eye->h_incision, e) ||
+        kt_yml_key_quantity(y, n, w, "cornea", KT_UNIT_LENGTH, b, &eye->h_cornea, e) ||
+        kt_yml_key_quantity(y, n, w, "sclera", KT_UNIT_LENGTH, b, &eye->h_sclera, e))
+        return e->code;
+    return KT_OK;
+}
+
+static const char *const EYE_KEYS[] = {
+    "anterior_radius", "anterior_radius_steep", "anterior_radius_flat", "steep_axis",
+    "posterior_radius", "central_thickness", "peripheral_thickness", "white_to_white",
+    "limbus_width", "sclera_thickness", "globe_radius", "extent", "optical_zone", "mesh_size",
+    "incision_rings", NULL};
+
+/* Geometric consistency between fields; messages point at the field that breaks it. */
+static int check_eye(kt_yml *y, const yaml_node_t *n, const kt_eye *eye, kt_err *e)
+{
+    /* Geometry of lib/model/eye_geom.h: the cornea ends at rho = wtw/2 on the globe sphere, the
+     * limbus is the band out to wtw/2 + limbus_width. Rings and the optical zone must stay
+     * limbus_width/2 inside the corneal edge (in clear cornea, as LRIs are placed). */
+    double clear = eye->wtw - eye->limbus_width;
+    double r_ant = fmin(eye->r_ant_steep, eye->r_ant_flat);
+    double r_limbus = 0.5 * eye->wtw + eye->limbus_width;
+    yaml_node_t *at;
+    if (eye->wtw >= 2 * r_ant) {
+        at = kt_yml_get(y, n, "white_to_white");
+        return kt_yml_fail(y, at ? at : n, e, "eye.white_to_white: expected less than twice the steep anterior radius (%g mm), got %g mm",
+                           2 * r_ant, eye->wtw);
+    }
+    if (eye->limbus_width >= 0.5 * eye->wtw) {
+        at = kt_yml_get(y, n, "limbus_width");
+        return kt_yml_fail(y, at ? at : n, e, "eye.limbus_width: expected less than half of white_to_white (%g mm), got %g mm",
+                           0.5 * eye->wtw, eye->limbus_width);
+    }
+    if (eye->globe_radius <= r_limbus) {
+        at = kt_yml_get(y, n, "globe_radius");
+        return kt_yml_fail(y, at ? at : n, e, "eye.globe_radius: expected more than the limbus's outer radius white_to_white/2 + limbus_width (%g mm), got %g mm",
+                           r_limbus, eye->globe_radius);
+    }
+    double polar = asin(r_limbus / eye->globe_radius) * 180 / PI;
+    if (eye->extent <= polar) {
+        at = kt_yml_get(y, n, "extent");
+        return kt_yml_fail(y, at ? at : n, e, "eye.extent: expected more than the polar angle of the limbus's outer edge (%.1f deg), got %g deg",
+                           polar, eye->extent);
+    }
+    if (eye->optical_zone > clear) {
+        at = kt_yml_get(y, n, "optical_zone");
+        return kt_yml_fail(y, at ? at : n, e, "eye.optical_zone: expected a diameter inside the clear cornea (<= white_to_white - limbus_width = %g mm), got %g mm",
+                           clear, eye->optical_zone);
+    }
+    yaml_node_t *rings = kt_yml_get(y, n, "incision_rings");
+    double t_max = fmax(eye->t_central, eye->t_peripheral);
+    for (int i = 0; i < eye->nring; i++) {
+        const kt_ring *r = &eye->ring[i];
+        yaml_node_t *item = kt_yml_seq_item(y, rings, i);
+        yaml_node_t *d = kt_yml_get(y, item, "diameter");
+        if (r->diameter <= eye->optical_zone || r->diameter > clear)
+            return kt_yml_fail(y, d, e, "eye.incision_rings[%d].diameter: expected a diameter in (%g, %g] mm (outside the optical zone, inside white_to_white - limbus_width), got %g mm",
+                               i, eye->optical_zone, clear, r->diameter);
+        if (r->depth_fraction == 0 && r->depth >= t_max)
+            return kt_yml_fail(y, kt_yml_get(y, item, "depth"), e, "eye.incision_rings[%d].depth: expected less than the corneal thickness (%g mm), got %g mm",
+                               i, t_max, r->depth);
+    }
+    return KT_OK;
+}
+
+static int parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
+{
+    const char *w = "eye";
+    if (kt_yml_check_map(y, n, w, EYE_KEYS, e)) return e->code;
+    yaml_node_t *one = kt_yml_get(y, n, "anterior_radius");
+    if (one && (kt_yml_get(y, n, "anterior_radius_steep") || kt_yml_get(y, n, "anterior_radius_flat")))
+        return kt_yml_fail(y, one, e, "eye.anterior_radius: expected either anterior_radius or the steep/flat pair, not both");
+    kt_yml_bounds radius = range(1, 50, 0, 0), thick = range(0.05, 5, 0, 0);
+    double r = eye->r_ant_steep;
+    if (kt_yml_key_quantity(y, n, w, "anterior_radius", KT_UNIT_LENGTH, radius, &r, e)) return e->code;
+    eye->r_ant_steep = eye->r_ant_flat = r;
+    if (kt_yml_key_quantity(y, n, w, "anterior_radius_steep", KT_UNIT_LENGTH, radius, &eye->r_ant_steep, e) ||
+        kt_yml_key_quantity(y, n, w, "anterior_radius_flat", KT_UNIT_LENGTH, radius, &eye->r_ant_flat, e) ||
+        kt_yml_key_quantity(y, n, w, "steep_axis", KT_UNIT_ANGLE, range(0, 180, 0, 0), &eye->steep_axis, e) ||
+        kt_yml_key_quantity(y, n, w, "posterior_radius", KT_UNIT_LENGTH, radius, &eye->r_post, e) ||
+        kt_yml_key_quantity(y, n, w, "central_thickness", KT_UNIT_LENGTH, thick, &eye->t_central, e) ||
+        kt_yml_key_quantity(y, n, w, "peripheral_thickness", KT_UNIT_LENGTH, thick, &eye->t_peripheral, e) ||
+        kt_yml_key_quantity(y, n, w, "white_to_white", KT_UNIT_LENGTH, range(2, 30, 0, 0), &eye->wtw, e) ||
+        kt_yml_key_quantity(y, n, w, "limbus_width", KT_UNIT_LENGTH, range(0, 10, 1, 0), &eye->limbus_width, e) ||
+        kt_yml_key_quantity(y, n, w, "sclera_thickness", KT_UNIT_LENGTH, thick, &eye->sclera_thickness, e) ||
+        kt_yml_key_quantity(y, n, w, "globe_radius", KT_UNIT_LENGTH, radius, &eye->globe_radius, e) ||
+        kt_yml_key_quantity(y, n, w, "extent", KT_UNIT_ANGLE, range(0, 180, 1, 0), &eye->extent, e) ||
+        kt_yml_key_quantity(y, n, w, "optical_zone", KT_UNIT_LENGTH, KT_YML_POSITIVE, &eye->optical_zone, e))
+        return e->code;
+    if (eye->r_ant_steep > eye->r_ant_flat)
+        return kt_yml_fail(y, kt_yml_get(y, n, "anterior_radius_steep"), e,
+                           "eye.anterior_radius_steep: expected at most anterior_radius_flat (%g mm), got %g mm",
+                           eye->r_ant_flat, eye->r_ant_steep);
+    yaml_node_t *v;
+    if ((v = kt_yml_get(y, n, "mesh_size")) && parse_sizes(y, v, eye, e)) return e->code;
+    if ((v = kt_yml_get(y, n, "incision_rings")) && parse_rings(y, v, eye, e)) return e->code;
+    return check_eye(y, n, eye, e);
+}
+
+/* ---- box and CGAL models ---------------------------------------------------------------- */
+
+static const char *const BOX_KEYS[] = {"nodes", "size", "fixed", NULL};
+
+static int parse_box(kt_yml *y, const yaml_node_t *n, kt_box *box, kt_err *e)
+{
+    if (kt_yml_check_map(y, n, "box", BOX_KEYS, e)) return e->code;
+    yaml_node_t *nodes = kt_yml_require(y, n, "nodes", "box", e);
+    if (!nodes || kt_yml_check_seq(y, nodes, "box.nodes", 3, 3, e)) return e->code;
+    for (int i = 0; i < 3; i++) {
+        char f[32];
+        snprintf(f, sizeof f, "box.nodes[%d]", i);
+        if (kt_yml_int(y, kt_yml_seq_item(y, nodes, i), f, 2, 100000, &box->n[i], e)) return e->code;
+    }
+    if ((double)box->n[0] * box->n[1] * box->n[2] > 2e7)
+        return kt_yml_fail(y, nodes, e, "box.nodes: expected at most 2e7 nodes in all");
+    for (int i = 0; i < 3; i++) box->len[i] = box->n[i] - 1.0; /* 1 mm spacing by default */
+    yaml_node_t *size = kt_yml_get(y, n, "size");
+    if (size) {
+        if (kt_yml_check_seq(y, size, "box.size", 3, 3, e)) return e->code;
+        for (int i = 0; i < 3; i++) {
+            char f[32];
+            snprintf(f, sizeof f, "box.size[%d]", i);
+            if (kt_yml_quantity(y, kt_yml_seq_item(y, size, i), f, KT_UNIT_LENGTH, KT_YML_POSITIVE,
+                                &box->len[i], e))
+                return e->code;
+        }
+    }
+    int face = box->fixed_face;
+    if (kt_yml_key_choice(y, n, "box", "fixed", FACES, &face, e)) return e->code;
+    box->fixed_face = face == 6 ? -1 : face;
+    return KT_OK;
+}
+
+static const char *const CGAL_KEYS[] = {"file", "unit", "facet_size", "facet_distance",
+                                        "cell_size", "target_nodes", NULL};
+
+static int parse_cgal(kt_yml *y, const yaml_node_t *n, const char *what, const char *dir,
+                      kt_cgal *g, kt_err *e)
+{
+    if (kt_yml_check_map(y, n, what, CGAL_KEYS, e)) return e->code;
+    yaml_node_t *file = kt_yml_require(y, n, "file", what, e);
+    char f[64], rel[1024];
+    snprintf(f, sizeof f, "%s.file", what);
+    if (!file || kt_yml_string(y, file, f, rel, sizeof rel, e)) return e->code;
+    int len = rel[0] == '/' ? snprintf(g->path, sizeof g->path, "%s", rel)
+                            : snprintf(g->path, sizeof g->path, "%s/%s", dir, rel);
+    if (len >= (int)sizeof g->path) return kt_yml_fail(y, file, e, "%s: expected a shorter path", f);
+    FILE *probe = fopen(g->path, "rb");
+    if (!probe) return kt_yml_fail(y, file, e, "%s: expected an existing, readable file, '%s' cannot be opened", f, g->path);
+    fclose(probe);
+    if (kt_yml_key_quantity(y, n, what, "unit", KT_UNIT_LENGTH, KT_YML_POSITIVE, &g->unit, e) ||
+        kt_yml_key_quantity(y, n, what, "facet_size", KT_UNIT_LENGTH, KT_YML_POSITIVE, &g->facet_size, e) ||
+        kt_yml_key_quantity(y, n, what, "facet_distance", KT_UNIT_LENGTH, KT_YML_POSITIVE, &g->facet_distance, e) ||
+        kt_yml_key_quantity(y, n, what, "cell_size", KT_UNIT_LENGTH, KT_YML_POSITIVE, &g->cell_size, e) ||
+        kt_yml_key_int(y, n, what, "target_nodes", 0, 10000000, &g->target_nodes, e))
+        return e->code;
+    const char *need[] = {"facet_size", "facet_distance", "cell_size"};
+    for (int i = 0; i < 3; i++)
+        if (!kt_yml_require(y, n, need[i], what, e)) return e->code;
+    return KT_OK;
+}
+
+/* ---- ordering, materials, loads, fixation ------------------------------------------------ */
+
+static const char *const ORDERING_KEYS[] = {"method", "last", "halo", "centre", "sector", NULL};
+
+static int parse_ordering(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *e)
+{
+    if (kt_yml_check_map(y, n, "ordering", ORDERING_KEYS, e)) return e->code;
+    int m = s->ordering - 1;
+    if (kt_yml_key_choice(y, n, "ordering", "method", ORDERINGS, &m, e)) return e->code;
+    s->ordering = m + 1;
+    if (kt_yml_key_int(y, n, "ordering", "halo", 0, 3, &s->ordering_halo, e)) return e->code;
+    yaml_node_t *centre = kt_yml_get(y, n, "centre");
+    if (centre && s->model != KT_MODEL_EYE)
+        return kt_yml_fail(y, centre, e, "ordering.centre: expected only on the eye model");
+    if (kt_yml_key_quantity(y, n, "ordering", "centre", KT_UNIT_ANGLE, range(0, 360, 0, 1),
+                            &s->ordering_centre, e))
+        return e->code;
+    yaml_node_t *sector = kt_yml_get(y, n, "sector");
+    if (sector && s->model != KT_MODEL_EYE)
+        return kt_yml_fail(y, sector, e, "ordering.sector: expected only on the eye model");
+    if (kt_yml_key_quantity(y, n, "ordering", "sector", KT_UNIT_ANGLE, range(0, 90, 1, 0),
+                            &s->ordering_sector, e))
+        return e->code;
+    yaml_node_t *last = kt_yml_get(y, n, "last");
+    return last ? name_field(y, last, "ordering.last", s->ordering_set, e) : KT_OK;
+}
+
+static const char *const MAT_KEYS[] = {"E", "nu", NULL};
+
+static kt_region_mat *find_mat(kt_scene *s, const char *region)
+{
+    for (int i = 0; i < s->nmat; i++)
+        if (strcmp(s->mat[i].region, region) == 0) return &s->mat[i];
+    return NULL;
+}
+
+static int add_mat(kt_scene *s, const char *region, double E, double nu)
+{
+    if (s->nmat >= KT_SCENE_MAX) return -1;
+    kt_region_mat *r = &s->mat[s->nmat++];
+    snprintf(r->region, sizeof r->region, "%s", region);
+    r->E = E;
+    r->nu = nu;
+    return 0;
+}
+
+/* Region names a model's mesh can hold; image labels are "label-N". */
+static int known_region(const kt_scene *s, const char *name)
+{
+    if (strcmp(name, "default") == 0) return 1;
+    if (s->model == KT_MODEL_EYE) return in_list(EYE_REGIONS, name);
+    if (s->model == KT_MODEL_IMAGE) {
+        int v;
+        return strncmp(name, "label-", 6) == 0 && kt_parse_int(name + 6, &v) == 0 && v > 0;
+    }
+    return in_list(BODY_REGIONS, name);
+}
+
+static int parse_materials(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *e)
+{
+    if (kt_yml_check_map(y, n, "materials", NULL, e)) return e->code;
+    for (int i = 0; i < kt_yml_map_len(n); i++) {
+        yaml_node_t *kn, *v;
+        const char *region = kt_yml_map_key(y, n, i, &kn, &v);
+        char what[96];
+        snprintf(what, sizeof what, "materials.%s", region);
+        if (!known_region(s, region))
+            return kt_yml_fail(y, kn, e, "materials: expected a region of the %s model or 'default', got '%s'",
+                               MODELS[s->model - 1], region);
+        if (kt_yml_check_map(y, v, what, MAT_KEYS, e)) return e->code;
+        kt_region_mat *r = find_mat(s, region);
+        if (!r) {
+            if (strlen(region) >= KT_NAME_MAX || add_mat(s, region, 0, 0))
+                return kt_yml_fail(y, kn, e, "materials: expected at most %d regions with names under %d characters",
+                                   KT_SCENE_MAX, KT_NAME_MAX);
+            r = find_mat(s, region);
+        }
+        yaml_node_t *E = kt_yml_get(y, v, "E"), *nu = kt_yml_get(y, v, "nu");
+        if (!r->E && (!E || !nu))
+            return kt_yml_fail(y, v, e, "%s: expected both 'E' and 'nu' (no default for this region)", what);
+        if (kt_yml_key_quantity(y, v, what, "E", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &r->E, e) ||
+            kt_yml_key_number(y, v, what, "nu", range(-1, 0.5, 1, 1), &r->nu, e))
+            return e->code;
+    }
+    return KT_OK;
+}
+
+/* Literature defaults of the eye's tissues; sources in keratome-scene(5). */
+static void eye_material_defaults(kt_scene *s)
+{
+    add_mat(s, "cornea", 0.3, 0.49);
+    add_mat(s, "limbus", 1.0, 0.49);
+    add_mat(s, "sclera", 3.0, 0.49);
+}
+
+static const char *const PRESSURE_KEYS[] = {"surface", "value", NULL};
+static const char *const LOAD_KEYS[] = {"pressure", "reference", "reference_tolerance", NULL};
+static const char *const REFERENCES[] = {"loaded", "unloaded", NULL};
+
+static int parse_pressure(kt_yml *y, const yaml_node_t *n, const char *what, kt_pressure *p, kt_err *e)
+{
+    if (kt_yml_check_map(y, n, what, PRESSURE_KEYS, e)) return e->code;
+    char f[96];
+    snprintf(f, sizeof f, "%s.surface", what);
+    yaml_node_t *surf = kt_yml_require(y, n, "surface", what, e);
+    if (!surf || name_field(y, surf, f, p->surface, e)) return e->code;
+    if (!kt_yml_require(y, n, "value", what, e)) return e->code;
+    return kt_yml_key_quantity(y, n, what, "value", KT_UNIT_PRESSURE, KT_YML_ANY, &p->p, e);
+}
+
+static int parse_loads(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *e)
+{
+    if (kt_yml_check_map(y, n, "loads", LOAD_KEYS, e)) return e->code;
+    /* What the geometry is: the measured shape under these loads (default), or stress-free. */
+    if (kt_yml_key_choice(y, n, "loads", "reference", REFERENCES, &s->reference, e) ||
+        kt_yml_key_quantity(y, n, "loads", "reference_tolerance", KT_UNIT_LENGTH,
+                            range(1e-9, 0.01, 0, 0), &s->reference_tol, e))
+        return e->code;
+    s->npressure = 0;
+    yaml_node_t *p = kt_yml_get(y, n, "pressure");
+    if (!p) return KT_OK;
+    if (p->type == YAML_MAPPING_NODE) {
+        s->npressure = 1;
+        return parse_pressure(y, p, "loads.pressure", &s->pressure[0], e);
+    }
+    if (kt_yml_check_seq(y, p, "loads.pressure", 0, KT_SCENE_MAX, e)) return e->code;
+    for (int i = 0; i < kt_yml_seq_len(p); i++) {
+        char what[48];
+        snprintf(what, sizeof what, "loads.pressure[%d]", i);
+        if (parse_pressure(y, kt_yml_seq_item(y, p, i), what, &s->pressure[i], e)) return e->code;
+        s->npressure = i + 1;
+    }
+    return KT_OK;
+}
+
+static const char *const FIX_KEYS[] = {"surface", "below", "components", "value", NULL};
+static const char *const BELOW_KEYS[] = {"axis", "value", NULL};
+
+static int parse_components(kt_yml *y, const yaml_node_t *n, const char *what, unsigned *mask, kt_err *e)
+{
+    char c[8];
+    if (kt_yml_string(y, n, what, c, sizeof c, e)) return e->code;
+    *mask = 0;
+    for (const char *p = c; *p; p++) {
+        unsigned bit = *p == 'x' ? 1u : *p == 'y' ? 2u : *p == 'z' ? 4u : 0u;
+        if (!bit || (*mask & bit))
+            return kt_yml_fail(y, n, e, "%s: expected distinct letters from 'xyz', got '%s'", what, c);
+        *mask |= bit;
+    }
+    return KT_OK;
+}
+
+static int parse_below(kt_yml *y, const yaml_node_t *n, const char *what, kt_fixation *f, kt_err *e)
+{
+    if (kt_yml_check_map(y, n, what, BELOW_KEYS, e)) return e->code;
+    if (!kt_yml_require(y, n, "axis", what, e) || !kt_yml_require(y, n, "value", what, e))
+        return e->code;
+    if (kt_yml_key_choice(y, n, what, "axis", AXES, &f->below_axis, e)) return e->code;
+    return kt_yml_key_quantity(y, n, what, "value", KT_UNIT_LENGTH, KT_YML_ANY, &f->below_value, e);
+}
+
+static int parse_fix(kt_yml *y, const yaml_node_t *n, const char *what, kt_fixation *f, kt_err *e)
+{
+    if (kt_yml_check_map(y, n, what, FIX_KEYS, e)) return e->code;
+    memset(f, 0, sizeof *f);
+    f->mask = 7;
+    f->below_axis = -1;
+    char fld[96];
+    yaml_node_t *surf = kt_yml_get(y, n, "surface"), *below = kt_yml_get(y, n, "below"), *v;
+    if (!surf && !below) return kt_yml_fail(y, n, e, "%s: expected key 'surface' or 'below'", what);
+    snprintf(f->surface, sizeof f->surface, "fixed");
+    snprintf(fld, sizeof fld, "%s.surface", what);
+    if (surf && name_field(y, surf, fld, f->surface, e)) return e->code;
+    snprintf(fld, sizeof fld, "%s.below", what);
+    if (below && parse_below(y, below, fld, f, e)) return e->code;
+    snprintf(fld, sizeof fld, "%s.components", what);
+    if ((v = kt_yml_get(y, n, "components")) && parse_components(y, v, fld, &f->mask, e)) return e->code;
+    if ((v = kt_yml_get(y, n, "value"))) {
+        snprintf(fld, sizeof fld, "%s.value", what);
+        if (kt_yml_check_seq(y, v, fld, 3, 3, e)) return e->code;
+        for (int c = 0; c < 3; c++) {
+            snprintf(fld, sizeof fld, "%s.value[%d]", what, c);
+            if (kt_yml_quantity(y, kt_yml_seq_item(y, v, c), fld, KT_UNIT_LENGTH, KT_YML_ANY, &f->value[c], e))
+                return e->code;
+        }
+    }
+    return KT_OK;
+}
+
+static int parse_fixation(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *e)
+{
+    if (kt_yml_check_seq(y, n, "fixation", 0, KT_SCENE_MAX, e)) return e->code;
+    s->nfix = 0;
+    for (int i = 0; i < kt_yml_seq_len(n); i++) {
+        char what[48];
+        snprintf(what, sizeof what, "fixation[%d]", i);
+        if (parse_fix(y, kt_yml_seq_item(y, n, i), what, &s->fix[i], e)) return e->code;
+        s->nfix = i + 1;
+    }
+    return KT_OK;
+}
+
+/* ---- names and model defaults ------------------------------------------------------------ */
+
+/* Is name a surface group the model's mesh will have? */
+static int known_surface(const kt_scene *s, const char *name)
+{
+    if (s->model == KT_MODEL_EYE) {
+        for (int i = 0; i < s->eye.nring; i++)
+            if (strcmp(s->eye.ring[i].name, name) == 0) return 1;
+        return in_list(EYE_SURFACES, name) && (strcmp(name, "fixed") || s->eye.extent < 180);
+    }
+    for (int i = 0; i < s->nfix; i++)
+        if (s->fix[i].below_axis >= 0 && strcmp(s->fix[i].surface, name) == 0) return 1;
+    if (s->model == KT_MODEL_BOX) {
+        /* The fixed face is renamed "fixed" and no longer has its own name. */
+        int face = s->box.fixed_face;
+        if (!strcmp(name, "fixed")) return face >= 0;
+        return in_list(BOX_SURFACES, name) && !(face >= 0 && !strcmp(name, FACES[face]));
+    }
+    return in_list(CGAL_SURFACES, name);
+}
+
+/* The node of item i's key in a sequence of mappings, for messages (NULL-safe). */
+static yaml_node_t *item_key(kt_yml *y, yaml_node_t *root, const char *block, const char *sub,
+                             int i, const char *key)
+{
+    yaml_node_t *b = kt_yml_get(y, root, block);
+    if (sub) b = kt_yml_get(y, b, sub);
+    yaml_node_t *item = b && b->type == YAML_SEQUENCE_NODE ? kt_yml_seq_item(y, b, i) : b;
+    yaml_node_t *v = kt_yml_get(y, item, key);
+    return v ? v : item;
+}
+
+static int check_names(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
+{
+    const char *model = MODELS[s->model - 1];
+    for (int i = 0; i < s->npressure; i++)
+        if (!known_surface(s, s->pressure[i].surface))
+            return kt_yml_fail(y, item_key(y, root, "loads", "pressure", i, "surface"), e,
+                               "loads.pressure: expected a surface of the %s model, got '%s'", model,
+                               s->pressure[i].surface);
+    for (int i = 0; i < s->nfix; i++) {
+        const kt_fixation *f = &s->fix[i];
+        if (f->below_axis >= 0 && s->model == KT_MODEL_EYE)
+            return kt_yml_fail(y, item_key(y, root, "fixation", NULL, i, "below"), e,
+                               "fixation[%d].below: expected only on box, surface and image models", i);
+        if (f->below_axis < 0 && !known_surface(s, f->surface))
+            return kt_yml_fail(y, item_key(y, root, "fixation", NULL, i, "surface"), e,
+                               "fixation[%d].surface: expected a surface of the %s model, got '%s'", i,
+                               model, f->surface);
+    }
+    if (s->ordering_set[0] && !known_surface(s, s->ordering_set))
+        return kt_yml_fail(y, item_key(y, root, "ordering", NULL, 0, "last"), e,
+                           "ordering.last: expected a surface of the %s model, got '%s'", model,
+                           s->ordering_set);
+    return KT_OK;
+}
+
+/* Defaults that depend on the model, for blocks the file leaves out. */
+static void model_defaults(yaml_node_t *materials, yaml_node_t *loads, yaml_node_t *fixation,
+                           kt_scene *s)
+{
+    int eye = s->model == KT_MODEL_EYE;
+    if (!materials && eye) eye_material_defaults(s);
+    if (!loads && eye) {
+        /* Mean intraocular pressure 15 mmHg (Klein et al. 1992), on the inner surface. */
+        s->npressure = 1;
+        snprintf(s->pressure[0].surface, KT_NAME_MAX, "inner");
+        s->pressure[0].p = 15 * 133.322387415e-6;
+    }
+    int has_fixed = eye ? s->eye.extent < 180 : s->model == KT_MODEL_BOX && s->box.fixed_face >= 0;
+    if (!fixation && has_fixed) {
+        s->nfix = 1;
+        memset(&s->fix[0], 0, sizeof s->fix[0]);
+        snprintf(s->fix[0].surface, KT_NAME_MAX, "fixed");
+        s->fix[0].mask = 7;
+        s->fix[0].below_axis = -1;
+    }
+    if (!s->ordering) s->ordering = eye && s->eye.nring ? KT_ORDERING_CONSTRAINED : KT_ORDERING_METIS;
+    /* LRI arcs are centred on the steep meridian: sweep the rings from there by default. */
+    if (isnan(s->ordering_centre) && eye) s->ordering_centre = s->eye.steep_axis;
+    /* 50 deg: a pair of arcs of up to 90 deg about the centre, with 5 deg to spare each side. */
+    if (isnan(s->ordering_sector) && eye) s->ordering_sector = 50;
+    /* One layer: the nodes whose stiffness columns change when the set is cut; the eye takes a
+     * second, the rows of those columns, so augsolve's closure solves stay inside the set
+     * (measured on plans/eye.yaml: closures of 12-14k DOFs with one layer, 5k with two). */
+    if (s->ordering_halo < 0) s->ordering_halo = eye ? 2 : 1;
+}
+
+static int parse_model(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
+{
+    const char *blocks[] = {"eye", "box", "surface", "image"};
+    for (int i = 0; i < 4; i++) {
+        yaml_node_t *b = kt_yml_get(y, root, blocks[i]);
+        if (b && i != s->model - 1)
+            return kt_yml_fail(y, b, e, "%s: expected only the block of model '%s'", blocks[i],
+                               MODELS[s->model - 1]);
+    }
+    yaml_node_t *b = kt_yml_get(y, root, blocks[s->model - 1]);
+    switch (s->model) {
+    case KT_MODEL_EYE: return b ? parse_eye(y, b, &s->eye, e) : KT_OK;
+    case KT_MODEL_BOX:
+        if (!b) return kt_yml_fail(y, root, e, "expected key 'box' for model box");
+        return parse_box(y, b, &s->box, e);
+    default:
+        if (!b) return kt_yml_fail(y, root, e, "expected key '%s' for model %s", blocks[s->model - 1], blocks[s->model - 1]);
+        return parse_cgal(y, b, blocks[s->model - 1], s->dir, &s->cgal, e);
+    }
+}
+
+static int parse_scene(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
+{
+    if (kt_yml_check_map(y, root, "scene", TOP_KEYS, e)) return e->code;
+    yaml_node_t *v;
+    if ((v = kt_yml_get(y, root, "name")) && name_field(y, v, "name", s->name, e)) return e->code;
+    char desc[1024];
+    if (kt_yml_key_string(y, root, "", "description", desc, sizeof desc, e)) return e->code;
+    int model = s->model - 1;
+    if (kt_yml_key_choice(y, root, "", "model", MODELS, &model, e)) return e->code;
+    s->model = model + 1;
+    if (kt_yml_key_int(y, root, "", "order", 1, 2, &s->order, e)) return e->code;
+    if (parse_model(y, root, s, e)) return e->code;
+    if ((v = kt_yml_get(y, root, "ordering")) && parse_ordering(y, v, s, e)) return e->code;
+    yaml_node_t *mats = kt_yml_get(y, root, "materials"), *loads = kt_yml_get(y, root, "loads"),
+                *fix = kt_yml_get(y, root, "fixation");
+    if (mats && s->model == KT_MODEL_EYE) eye_material_defaults(s); /* entries override them */
+    if (mats && parse_materials(y, mats, s, e)) return e->code;
+    if (loads && parse_loads(y, loads, s, e)) return e->code;
+    if (fix && parse_fixation(y, fix, s, e)) return e->code;
+    model_defaults(mats, loads, fix, s);
+    return check_names(y, root, s, e);
+}
+
+int kt_scene_load(const char *path, kt_scene *s, kt_err *e)
+{
+    scene_defaults(s);
+    if (strlen(path) >= sizeof s->path) return kt_fail(e, KT_EINPUT, "%.200s...: path too long", path);
+    strcpy(s->path, path);
+    dir_of(path, s->dir, sizeof s->dir);
+    base_name(path, s->name, sizeof s->name);
+    kt_yml y;
+    if (kt_yml_load(&y, path, e)) return e->code;
+    yaml_node_t *root = kt_yml_root(&y, e);
+    if (root) parse_scene(&y, root, s, e);
+    kt_yml_free(&y);
+    return e->code;
+}

@@ -1,0 +1,82 @@
+/* scene.h: the scene YAML (geometry, regions, materials, loads, fixation, meshing, ordering). */
+#ifndef KT_SCENE_H
+#define KT_SCENE_H
+
+#include "eye_geom.h"
+#include "mesh.h"
+#include "order.h"
+
+/* Internal units: mm, MPa, N, degrees. The YAML gives quantities as "7.8 mm", "540 um",
+ * "15 mmHg", "0.3 MPa", "90 deg"; every default is documented in man/man5/keratome-scene.5
+ * with its literature source. */
+
+enum { KT_MODEL_EYE = 1, KT_MODEL_BOX, KT_MODEL_SURFACE, KT_MODEL_IMAGE };
+/* What the scene's geometry is (loads.reference): the measured shape under the scene's loads
+ * (mesh-prep then computes the stress-free shape, lib/fem/refgeom.h), or already stress-free. */
+enum { KT_REFERENCE_LOADED = 0, KT_REFERENCE_UNLOADED = 1 };
+
+
+/* Box (the paper's beams and brick): nodes n[3] over lengths len[3], mm. */
+typedef struct kt_box {
+    int n[3];
+    double len[3];
+    int fixed_face;             /* face renamed "fixed": 0..5 = xmin xmax ymin ymax zmin zmax, -1 none */
+} kt_box;
+
+/* Surface mesh (OFF/STL) or labelled image (INR) meshed with CGAL. */
+typedef struct kt_cgal {
+    char path[1024];            /* resolved relative to the scene file */
+    double facet_size, cell_size, facet_distance; /* mm */
+    int target_nodes;           /* if > 0, sizes are scaled to reach about this many nodes */
+    double unit;                /* mm per file unit: the mesh is scaled by it (default 1) */
+} kt_cgal;
+
+typedef struct kt_region_mat {
+    char region[KT_NAME_MAX];
+    double E, nu;               /* MPa, - */
+} kt_region_mat;
+
+typedef struct kt_pressure {
+    char surface[KT_NAME_MAX];
+    double p;                   /* MPa (YAML may say mmHg or kPa) */
+} kt_pressure;
+
+typedef struct kt_fixation {
+    char surface[KT_NAME_MAX];
+    unsigned mask;              /* bit c set: component c fixed */
+    double value[3];            /* prescribed displacement, mm */
+    int below_axis;             /* -1, or 0..2: mesh-prep creates group 'surface' from the */
+    double below_value;         /* boundary triangles with every vertex at axis <= value (mm) */
+} kt_fixation;
+
+typedef struct kt_scene {
+    char path[1024], dir[1024]; /* the file and its folder */
+    char name[KT_NAME_MAX];
+    int model;                  /* KT_MODEL_* */
+    int order;                  /* element order, 1 or 2 */
+    int ordering;               /* KT_ORDERING_* */
+    char ordering_set[KT_NAME_MAX]; /* surface group put last by the constrained ordering */
+    int ordering_halo;          /* layers of tet neighbours added to that set (eye 2, else 1) */
+    double ordering_sector;     /* eye: only incision-ring nodes within this angle (deg) of the
+                                   centre meridian or its opposite join the set; NAN: all */
+    double ordering_centre;     /* eye: the set's nodes nearest this meridian (deg, and the
+                                   opposite one) are ordered last of all; NAN: no sweep */
+    kt_eye eye;
+    kt_box box;
+    kt_cgal cgal;
+    int nmat;
+    kt_region_mat mat[KT_SCENE_MAX];
+    int npressure;
+    kt_pressure pressure[KT_SCENE_MAX];
+    int nfix;
+    kt_fixation fix[KT_SCENE_MAX];
+    int reference;              /* KT_REFERENCE_* (loads.reference; default loaded) */
+    double reference_tol;       /* mm: shape tolerance of the stress-free iteration
+                                   (loads.reference_tolerance; default 3e-5 mm) */
+} kt_scene;
+
+/* Load and validate a scene file. Unknown keys, duplicate keys, wrong types, missing or
+ * unknown units and out-of-range values are KT_EINPUT with "file:line:col: expected ...". */
+int kt_scene_load(const char *path, kt_scene *s, kt_err *e);
+
+#endif
