@@ -155,6 +155,12 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
     }
     CHECK(e.code == KT_OK, "%s: %s", name, e.msg);
     CHECK(S.mesh.nn == p.nn, "%s: the last step reaches the final mesh", name);
+    if (!only) { /* a tolerance no rounding meets: one refinement step, then a loud failure */
+        kt_err e2 = {0};
+        CHECK(kt_plan_solve(&S, &p, &F, &s->prob, 1e-300, &e2) == KT_ERUN && S.row.iters == 1 &&
+                  strstr(e2.msg, "after a step of iterative refinement"),
+              "%s: tol 1e-300: rc %d iters %d '%s'", name, e2.code, S.row.iters, e2.msg);
+    }
     free(ref);
     kt_plan_state_free(&S);
     kt_plan_factor_free(&F);
