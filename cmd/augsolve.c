@@ -39,6 +39,7 @@ static const char *USAGE =
     "  --binary              binary legacy VTK\n"
     "  -q, --quiet           no progress on stderr\n"
     "  -h, --help            this text\n"
+    "      --version         the version (the CMake project version)\n"
     "Exit status: 0 ok, 1 numerical failure (GMRES/CG missing --tol, a factor that is not\n"
     "positive definite, a --verify difference above --verify-tol), 2 bad usage or input.\n"
     "See augsolve(1) and keratome-edits(5).\n";
@@ -111,7 +112,8 @@ int main(int argc, char **argv)
         {"verify", no_argument, NULL, O_VERIFY}, {"verify-tol", required_argument, NULL, O_VTOL},
         {"no-vtk", no_argument, NULL, O_NOVTK}, {"binary", no_argument, NULL, O_BINARY},
         {"steps", required_argument, NULL, O_STEPS},
-        {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+        {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'},
+        {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
     kt_aug_run_opts o;
     kt_aug_run_opts_default(&o);
     int c, rc;
@@ -119,6 +121,10 @@ int main(int argc, char **argv)
     while ((c = getopt_long(argc, argv, "o:qh", LONG, NULL)) != -1) {
         if (c == 'h') {
             fputs(USAGE, stdout);
+            return 0;
+        }
+        if (c == 'V') {
+            puts("augsolve (keratome) " KT_VERSION);
             return 0;
         }
         if (c == '?' || c == ':') return usage_error("unknown or incomplete option", argv[optind - 1]);

@@ -7,7 +7,8 @@
 #   mesh-prep -> cutplan | augsolve -> curvature
 # It prints the pre-operative K, K at every step, flattening, steepening, coupling ratio and SIA
 # (curvature), and the per-step solve times (augsolve's steps.tsv); RUN_DIR (default run/demo)
-# keeps the mesh, the step VTKs, surface-NNNN.vtk and the axial power maps axial-NNNN.png.
+# keeps the mesh, the step VTKs, surface-NNNN.vtk, the axial power maps axial-NNNN.png, the
+# teaching page report.html and the ParaView time series steps.pvd.
 # It first installs what is missing (scripts/setup.sh) and builds (scripts/build.sh).
 # Environment: KT_BUILD, the build folder with the tools (default build); KT_NO_BUILD=1 skips
 # set-up and build (for tests that already built).
@@ -42,4 +43,4 @@ awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
 awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" 'BEGIN {
     printf "wall clock: mesh-prep %.1f s, cutplan|augsolve %.1f s, curvature %.1f s, total %.1f s\n",
            b - a, c - b, d - c, d - a }'
-echo "outputs in $RUN: curvature.tsv, meridians.tsv, steps.tsv, axial-NNNN.png, surface-NNNN.vtk"
+echo "outputs in $RUN: report.html (open it in a browser), steps.pvd (ParaView), curvature.tsv, meridians.tsv, steps.tsv, axial-NNNN.png, surface-NNNN.vtk"
