@@ -123,8 +123,11 @@ void kt_svg_axes(FILE *f, const kt_svg_plot *p, const char *xfmt, const char *yf
 void kt_svg_series(FILE *f, const kt_svg_plot *p, const double *x, const double *y, int n, const char *cls)
 {
     fprintf(f, "<g class=\"%s\"><polyline points=\"", cls);
-    for (int i = 0; i < n; i++) fprintf(f, "%s%.2f,%.2f", i ? " " : "", kt_svg_px(p, x[i]), kt_svg_py(p, y[i]));
+    for (int i = 0, k = 0; i < n; i++)
+        if (isfinite(x[i]) && isfinite(y[i])) fprintf(f, "%s%.2f,%.2f", k++ ? " " : "", kt_svg_px(p, x[i]), kt_svg_py(p, y[i]));
     fputs("\"/>", f);
-    for (int i = 0; i < n; i++) fprintf(f, "<circle cx=\"%.2f\" cy=\"%.2f\" r=\"3\"/>", kt_svg_px(p, x[i]), kt_svg_py(p, y[i]));
+    for (int i = 0; i < n; i++)
+        if (isfinite(x[i]) && isfinite(y[i]))
+            fprintf(f, "<circle cx=\"%.2f\" cy=\"%.2f\" r=\"3\"/>", kt_svg_px(p, x[i]), kt_svg_py(p, y[i]));
     fputs("</g>\n", f);
 }

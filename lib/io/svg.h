@@ -45,7 +45,8 @@ void kt_svg_nice_range(double *lo, double *hi, int n);
 void kt_svg_axes(FILE *f, const kt_svg_plot *p, const char *xfmt, const char *yfmt, const char *xtitle,
                  const char *ytitle);
 
-/* A data series as a polyline with a dot at each point (cls names the colour). */
+/* A data series as a polyline with a dot at each point (cls names the colour); points with a
+ * NaN or infinite coordinate are left out. */
 void kt_svg_series(FILE *f, const kt_svg_plot *p, const double *x, const double *y, int n, const char *cls);
 
 #endif

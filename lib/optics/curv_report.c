@@ -254,8 +254,8 @@ static void plan_section(FILE *f, const kt_report *r)
 
 /* ---------------------------------------------------------------- plots against step */
 
-static void step_plot(FILE *f, const kt_report *r, const char *label, int nser, const double *const *y,
-                      const char *const *name, const char *ytitle)
+static int step_plot(FILE *f, const kt_report *r, const char *label, int nser, const double *const *y,
+                     const char *const *name, const char *ytitle, kt_err *e)
 {
     const double W = 560, H = 300;
     int n = r->nstep;
@@ -265,8 +265,8 @@ static void step_plot(FILE *f, const kt_report *r, const char *label, int nser, 
             if (isfinite(y[k][i])) lo = fmin(lo, y[k][i]), hi = fmax(hi, y[k][i]);
     kt_svg_nice_range(&lo, &hi, 5);
     kt_svg_plot p = {70, 12, W - 90, H - 70, 0, n > 1 ? n - 1 : 1, lo, hi};
-    double *x = malloc(sizeof(double) * (n > 0 ? n : 1));
-    if (!x) return;
+    double *x = kt_calloc(n > 0 ? n : 1, sizeof(double), e);
+    if (!x) return e->code;
     for (int i = 0; i < n; i++) x[i] = i;
     kt_svg_begin(f, W, H, label);
     kt_svg_axes(f, &p, "%.0f", "%.2f", "", ytitle);
@@ -286,23 +286,23 @@ static void step_plot(FILE *f, const kt_report *r, const char *label, int nser, 
     }
     kt_svg_end(f);
     free(x);
+    return KT_OK;
 }
 
 static int step_plots(FILE *f, const kt_report *r, kt_err *e)
 {
     int n = r->nstep;
-    double *v = kt_calloc((size_t)6 * n, sizeof(double), e);
+    double *v = kt_calloc((size_t)5 * n, sizeof(double), e);
     if (!v) return e->code;
-    double *fl = v, *st = v + n, *sia = v + 2 * n, *cyl = v + 3 * n, *tcyl = v + 4 * n, *kinc = v + 5 * n;
+    double *fl = v, *st = v + n, *sia = v + 2 * n, *cyl = v + 3 * n, *tcyl = v + 4 * n;
     for (int i = 0; i < n; i++) {
         fl[i] = r->step[i].flat, st[i] = r->step[i].steep, sia[i] = r->step[i].va.sia.mag;
-        cyl[i] = r->step[i].k.cyl, tcyl[i] = r->step[i].tot.tot_cyl, kinc[i] = r->step[i].k_inc;
+        cyl[i] = r->step[i].k.cyl, tcyl[i] = r->step[i].tot.tot_cyl;
     }
-    (void)kinc;
     fputs("<h2>4. The cut, step by step</h2>\n<div class=\"row\">\n<figure>", f);
     const double *y1[] = {fl, st, sia};
     const char *n1[] = {"flattening of the incised meridian", "steepening at 90\xC2\xB0", "SIA"};
-    step_plot(f, r, "flattening, steepening and SIA against step", 3, y1, n1, "dioptres");
+    int rc = step_plot(f, r, "flattening, steepening and SIA against step", 3, y1, n1, "dioptres", e);
     fprintf(f, "<figcaption><b>Flattening</b> of the incised meridian (%.0f&deg;) and <b>steepening</b> of the "
                "orthogonal one, both against step 0, and the magnitude of the <b>surgically induced "
                "astigmatism</b> (SIA, vector difference). Their ratio is the coupling ratio.</figcaption></figure>\n<figure>",
@@ -310,14 +310,14 @@ static int step_plots(FILE *f, const kt_report *r, kt_err *e)
     int have_tot = isfinite(tcyl[0]);
     const double *y2[] = {cyl, tcyl};
     const char *n2[] = {"anterior (keratometric) cylinder", "total corneal cylinder"};
-    step_plot(f, r, "corneal cylinder against step", have_tot ? 2 : 1, y2, n2, "cylinder (D)");
+    if (rc == KT_OK) rc = step_plot(f, r, "corneal cylinder against step", have_tot ? 2 : 1, y2, n2, "cylinder (D)", e);
     fputs("<figcaption><b>Corneal cylinder</b> as the keratometer reads it (anterior surface, index 1.3375)", f);
     if (have_tot)
         fprintf(f, " and the <b>total corneal astigmatism</b> (anterior + posterior surface, thick lens, indices "
                    "%.3f / %.3f / %.3f)", r->n->air, r->n->cornea, r->n->aqueous);
     fputs(".</figcaption></figure>\n</div>\n", f);
     free(v);
-    return KT_OK;
+    return rc;
 }
 
 /* ---------------------------------------------------------------- double-angle plot */
