@@ -195,8 +195,7 @@ static void eye_diagram(FILE *f, const kt_report *r)
     if (eye && eye->optical_zone > 0) {
         kt_svg_circle(f, C, C, 0.5 * eye->optical_zone * s, "oz");
         double ro = 0.5 * eye->optical_zone * s;
-        kt_svg_text(f, C + ro * cos(-20 * DEG) + 4, C + ro * sin(20 * DEG) + 4, "start", "small", "refined mesh zone %.1f mm",
-                    eye->optical_zone);
+        kt_svg_text(f, C + 8, C + ro - 8, "start", "small", "refined mesh zone %.1f mm", eye->optical_zone);
     }
     const kt_report_step *s0 = r->step;
     double ax = s0->k.axis_steep;
