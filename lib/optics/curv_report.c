@@ -277,7 +277,7 @@ static int step_plot(FILE *f, const kt_report *r, const char *label, int nser, c
                 arcs ? "step (above) and degrees of arc opened per incision (below)" : "step");
     for (int k = 0; k < nser; k++) {
         char cls[8];
-        snprintf(cls, sizeof cls, "s%d", k + 1);
+        snprintf(cls, sizeof cls, "s%d", (k % 5) + 1); /* the style sheet has series s1..s5 */
         kt_svg_series(f, &p, x, y[k], n, cls);
         double ly = p.y + 18 + 17 * k, lx = p.x + 12;
         fprintf(f, "<g class=\"%s\"><polyline points=\"%.1f,%.1f %.1f,%.1f\"/></g>\n", cls, lx, ly - 4, lx + 22, ly - 4);
