@@ -14,7 +14,7 @@ if [ ${#plans[@]} -eq 0 ]; then
     for k in single paired; do for a in 30 45 60 75 90; do plans+=("plans/lri-$k-$a.yaml"); done; done
 fi
 mkdir -p "$OUT"
-[ -f "$OUT/eye.msh" ] || "$B/mesh-prep" "$SCENE" -o "$OUT/eye.msh" -q
+[ -f "$OUT/eye.msh" ] || "$B/mesh-prep" "$SCENE" -o "$OUT/eye.msh" -q > "$OUT/mesh-prep.txt"
 nodes=$(awk '/^\$Nodes/ { getline; print $2; exit }' "$OUT/eye.msh")
 printf 'plan\tarc\tpaired\tflattening_D\tsteepening_D\tcoupling_ratio\tdk_mean_D\tsia_D\tnodes\tseconds\n' > "$OUT/table.tsv"
 for p in "${plans[@]}"; do
