@@ -1,7 +1,7 @@
 #!/bin/bash
 # augsolve_prestress.sh BUILD_DIR: the prestressed eye (plans/eye.yaml physics: lamellar cornea
 # and limbus, linearized about the measured geometry under IOP) on a coarse P2 mesh, a single
-# 30-degree LRI in 3 steps, solved with the augmented method and --verify (each step also
+# 30-degree LRI in 3 steps, solved with augsolve's default method and --verify (each step also
 # factored from scratch with the loads recomputed from the whole mesh, so the incremental
 # release of the cut tets' prestress is checked against an independent assembly). Checks:
 # step 0 has no displacement (|u| < 1e-9 mm) and curvature reads the scene's keratometry
