@@ -13,6 +13,7 @@
 #include "aug_plan.h"
 #include "bind.h"
 #include "msh.h"
+#include "physics.h"
 #include "scene.h"
 #include "vtk.h"
 
@@ -21,6 +22,7 @@ typedef struct run {
     kt_mesh mesh;
     kt_scene scene;
     kt_fem_problem fem;
+    kt_physics phys;            /* per-tet physics; fem.mats.td points into it */
     kt_aug_problem prob;
     FILE *edits;
     kt_edits_reader rd;
@@ -38,6 +40,7 @@ typedef struct run {
     kt_out tsv;
     int tsv_open;
     char scene_path[PATH_MAX];
+    int quiet;
 } run;
 
 static void run_free(run *r)
@@ -54,6 +57,7 @@ static void run_free(run *r)
     if (r->edits && r->edits != stdin) fclose(r->edits);
     if (r->tsv_open) kt_out_abort(&r->tsv);
     kt_fem_problem_free(&r->fem);
+    kt_physics_free(&r->phys);
     kt_mesh_free(&r->mesh);
 }
 
@@ -77,6 +81,25 @@ static int open_edits(run *r, const char *path, kt_err *e)
     return KT_OK;
 }
 
+/* Fibre matrices and, for a prestressed scene, the prestress of the measured geometry (one
+ * direct solve); its steps are then increments from the loaded state, so the prescribed values
+ * (already in the prestress) become zero. */
+static int build_physics(run *r, kt_err *e)
+{
+    cholmod_common c;
+    cholmod_start(&c);
+    int rc = kt_physics_build(&r->scene, &r->mesh, &r->fem, &r->phys, &c, e);
+    cholmod_finish(&c);
+    if (rc) return rc;
+    if (r->phys.prestressed) {
+        memset(r->fem.g, 0, 3 * (size_t)r->mesh.nn * sizeof(double));
+        for (int k = 0; k < r->fem.nfix; k++) memset(r->fem.fix[k].v, 0, sizeof r->fem.fix[k].v);
+        kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
+               "apex membrane stress %.4g kPa\n", r->phys.t_build, 1000 * r->phys.sig_apex);
+    }
+    return KT_OK;
+}
+
 /* Materials, fixation and pressures of the scene on this mesh. */
 static int load_problem(run *r, const char *scene, kt_err *e)
 {
@@ -86,6 +109,7 @@ static int load_problem(run *r, const char *scene, kt_err *e)
     abs_path(scene, r->scene_path, sizeof r->scene_path);
     if (kt_scene_load(scene, &r->scene, e) || kt_fem_bind(&r->scene, &r->mesh, &r->fem, e))
         return e->code;
+    if (build_physics(r, e)) return e->code;
     r->prob = (kt_aug_problem){&r->mesh, &r->fem.mats, r->fem.fixed, r->fem.g, r->fem.npress,
                                r->fem.press, r->fem.nfix, r->fem.fix};
     return KT_OK;
@@ -399,6 +423,7 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     run *r = kt_calloc(1, sizeof *r, e);
     if (!r) return e->code;
     int steps = 0;
+    r->quiet = o.aug.quiet;
     if (kt_msh_read(o.mesh, &r->mesh, e) || open_edits(r, o.edits, e) ||
         load_problem(r, o.scene ? o.scene : r->rd.h.scene, e) || kt_mkdir_p(o.run_dir, e) ||
         open_tsv(r, &o, e))

@@ -64,7 +64,8 @@ int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e)
     return KT_OK;
 }
 
-/* Applied loads on the cut mesh: the scene's pressures (fem layer) and the edits' forces. */
+/* Applied loads on the cut mesh: the scene's pressures (fem layer), the prestress's internal
+ * forces when the scene is prestressed (their release across cut faces), the edits' forces. */
 static int loads(kt_plan_state *s, const kt_aug_problem *prob, kt_err *e)
 {
     size_t n = 3 * (size_t)s->mesh.nn;
@@ -72,6 +73,7 @@ static int loads(kt_plan_state *s, const kt_aug_problem *prob, kt_err *e)
     for (int k = 0; k < prob->npress; k++)
         if (kt_fem_pressure(&s->mesh, prob->press[k].tag, prob->press[k].p, s->f, e))
             return e->code;
+    if (kt_fem_release_loads(&s->mesh, prob->mats, s->f, e)) return e->code;
     for (size_t i = 0; i < n; i++) s->f[i] += s->force[i];
     return KT_OK;
 }
