@@ -115,4 +115,10 @@ int kt_fem_lift(const cholmod_sparse *K, const unsigned char *fixed, const doubl
 int kt_fem_solve(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
                  const double *g, const double *f, double *u, cholmod_common *c, kt_err *e);
 
+/* KT_EINPUT unless E > 0 (finite) and -1 < nu < 0.5. */
+int kt_fem_check_material(kt_material mat, kt_err *e);
+
+/* Identity rows and columns on the fixed DOFs of an assembled stiffness (lower triangle). */
+void kt_fem_apply_fixed(cholmod_sparse *A, const unsigned char *fixed);
+
 #endif

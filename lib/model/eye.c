@@ -20,8 +20,6 @@
 #define PI 3.14159265358979323846
 #define RING_STUB 0.1 /* mm: how far a ring's construction segment starts outside the eye */
 
-enum { REG_CORNEA = 1, REG_LIMBUS, REG_SCLERA };
-enum { SURF_ANTERIOR = 1, SURF_INNER, SURF_FIXED, SURF_OUTER, SURF_RING0 = 10 };
 
 /* State of one meshing run: geometry, gmsh's sticky error flag, entity classification. */
 typedef struct eye_build {
@@ -183,7 +181,7 @@ static int keep_ring_pieces(eye_build *b, int k, const int *map, size_t nmap, kt
             continue;
         }
         if (grow_table(&b->surf_group, &b->nstag, tag + 1, e)) return e->code;
-        b->surf_group[tag] = SURF_RING0 + k + 1;
+        b->surf_group[tag] = KT_EYE_SURF_RING0 + k + 1;
         b->nring_piece++;
     }
     return KT_OK;
@@ -230,7 +228,7 @@ static int build_model(eye_build *b, kt_err *e)
     if (gm_check(b, "fragmenting the volumes with the incision rings", e)) return e->code;
     for (int i = 0; i < nr; i++) {
         int found = 0;
-        for (int t = 0; t < b->nstag; t++) found |= b->surf_group[t] == SURF_RING0 + i + 1;
+        for (int t = 0; t < b->nstag; t++) found |= b->surf_group[t] == KT_EYE_SURF_RING0 + i + 1;
         if (!found)
             return kt_fail(e, KT_ERUN, "eye: ring '%s' was lost in the boolean fragment",
                            b->eye->ring[i].name);
@@ -264,10 +262,10 @@ static int boundary_group(const kt_eye_geom *g, int region, const double p[3])
     double tol = 1e-6 * g->Rg;
     double r0 = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
     double ra = sqrt(p[0] * p[0] + p[1] * p[1] + (p[2] - g->z_ca) * (p[2] - g->z_ca));
-    if (region == REG_CORNEA) return fabs(ra - g->Ra) < tol ? SURF_ANTERIOR : SURF_INNER;
-    if (fabs(r0 - g->Rg) < tol) return SURF_OUTER;
-    if (region == REG_LIMBUS || fabs(r0 - g->Ri) < tol) return SURF_INNER;
-    return SURF_FIXED;
+    if (region == KT_EYE_REG_CORNEA) return fabs(ra - g->Ra) < tol ? KT_EYE_SURF_ANTERIOR : KT_EYE_SURF_INNER;
+    if (fabs(r0 - g->Rg) < tol) return KT_EYE_SURF_OUTER;
+    if (region == KT_EYE_REG_LIMBUS || fabs(r0 - g->Ri) < tol) return KT_EYE_SURF_INNER;
+    return KT_EYE_SURF_FIXED;
 }
 
 static int classify_surfaces(eye_build *b, kt_err *e)
@@ -279,7 +277,7 @@ static int classify_surfaces(eye_build *b, kt_err *e)
     for (size_t i = 0; i + 1 < nst && !b->ierr; i += 2) {
         int tag = st[i + 1];
         if (grow_table(&b->surf_group, &b->nstag, tag + 1, e)) break;
-        if (b->surf_group[tag] >= SURF_RING0) continue;
+        if (b->surf_group[tag] >= KT_EYE_SURF_RING0) continue;
         int *up = NULL, *down = NULL;
         size_t nup = 0, ndown = 0;
         gmshModelGetAdjacencies(2, tag, &up, &nup, &down, &ndown, &ierr);
@@ -363,7 +361,7 @@ static int size_fields(eye_build *b, kt_err *e)
         if (!tags) return e->code;
         int k = 0, ierr = 0;
         for (int t = 0; t < b->nstag; t++)
-            if (b->surf_group[t] >= SURF_RING0) tags[k++] = t;
+            if (b->surf_group[t] >= KT_EYE_SURF_RING0) tags[k++] = t;
         int d = field(b, "Distance");
         gmshModelMeshFieldSetNumbers(d, "SurfacesList", tags, (size_t)k, &ierr);
         gm(b, ierr);
@@ -510,13 +508,13 @@ static int add_groups(eye_build *b, kt_mesh *m, kt_err *e)
     for (int i = 0; i < 3; i++)
         if (kt_mesh_add_group(m, 3, i + 1, regions[i], e)) return e->code;
     for (int i = 0; i < 4; i++)
-        if (!(i + 1 == SURF_FIXED && b->g.whole) && kt_mesh_add_group(m, 2, i + 1, surfs[i], e))
+        if (!(i + 1 == KT_EYE_SURF_FIXED && b->g.whole) && kt_mesh_add_group(m, 2, i + 1, surfs[i], e))
             return e->code;
     for (int k = 0; k < b->eye->nring; k++) {
         char name[KT_NAME_MAX];
         if (b->eye->ring[k].name[0]) snprintf(name, sizeof name, "%s", b->eye->ring[k].name);
         else snprintf(name, sizeof name, "incision-ring-%d", k + 1);
-        if (kt_mesh_add_group(m, 2, SURF_RING0 + k + 1, name, e)) return e->code;
+        if (kt_mesh_add_group(m, 2, KT_EYE_SURF_RING0 + k + 1, name, e)) return e->code;
     }
     return KT_OK;
 }
@@ -562,84 +560,6 @@ static int extract(eye_build *b, int order, kt_mesh *m, kt_err *e)
     node_map_free(&nm);
     if (rc) kt_mesh_free(m);
     return rc;
-}
-
-/* ---- toric warp ------------------------------------------------------------------------ */
-
-static void mark_group_nodes(const kt_mesh *m, int tag, char *mark)
-{
-    int fv = kt_tri_nv(m->order);
-    for (int i = 0; i < m->nf; i++)
-        if (m->tri_tag[i] == tag)
-            for (int j = 0; j < fv; j++) mark[m->tri[(size_t)i * fv + j]] = 1;
-}
-
-/* Map the base eye to the toric one: z += delta(x, y) w(rho, z); anterior nodes (and the
- * limbus outer surface) are then put exactly on their surfaces. */
-static int warp_toric(const kt_eye_geom *g, kt_mesh *m, kt_err *e)
-{
-    char *ant = kt_calloc((size_t)m->nn, 1, e), *out = kt_calloc((size_t)m->nn, 1, e);
-    if (!ant || !out) {
-        free(ant);
-        free(out);
-        return e->code;
-    }
-    mark_group_nodes(m, SURF_ANTERIOR, ant);
-    mark_group_nodes(m, SURF_OUTER, out);
-    for (int i = 0; i < m->nn; i++) {
-        double *p = m->xyz + 3 * (size_t)i, rho = hypot(p[0], p[1]);
-        if (ant[i]) {
-            p[2] = kt_eye_geom_toric_z(g, p[0], p[1]);
-        } else if (out[i] && atan2(rho, p[2]) < g->alphaL) {
-            p[2] = kt_eye_geom_outer_z(g, p[0], p[1]);
-        } else {
-            double w = kt_eye_geom_weight(g, rho, p[2]);
-            double delta = kt_eye_geom_toric_z(g, p[0], p[1]) - kt_eye_geom_sphere_z(g, rho);
-            if (w > 0) p[2] += w * delta;
-        }
-        if (!isfinite(p[2])) {
-            free(ant);
-            free(out);
-            return kt_fail(e, KT_ERUN, "eye: node %d left the toric surface's domain", i + 1);
-        }
-    }
-    free(ant);
-    free(out);
-    return KT_OK;
-}
-
-/* Jacobian determinant of a 10-node tet's quadratic map at barycentric point L (gmsh node
- * order: vertices, then edges 01 12 20 30 32 31). */
-static double p2_detj(const double *xyz, const int *q, const double L[4])
-{
-    static const double dL[3][4] = {{-1, 1, 0, 0}, {-1, 0, 1, 0}, {-1, 0, 0, 1}};
-    double J[3][3] = {{0}};
-    for (int r = 0; r < 3; r++) {
-        for (int a = 0; a < 4; a++)
-            for (int c = 0; c < 3; c++) J[r][c] += (4 * L[a] - 1) * dL[r][a] * xyz[3 * q[a] + c];
-        for (int j = 0; j < 6; j++) {
-            int a = kt_tet_edge[j][0], b = kt_tet_edge[j][1];
-            double dn = 4 * (L[a] * dL[r][b] + L[b] * dL[r][a]);
-            for (int c = 0; c < 3; c++) J[r][c] += dn * xyz[3 * q[4 + j] + c];
-        }
-    }
-    return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
-           J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
-           J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
-}
-
-/* Curved (P2) tets must stay valid after curving and the toric map: det J > 0 at the corners
- * and the centroid. */
-static int check_curved(const kt_mesh *m, kt_err *e)
-{
-    static const double pts[5][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1},
-                                     {0.25, 0.25, 0.25, 0.25}};
-    for (int t = 0; t < m->ne && m->order == 2; t++)
-        for (int k = 0; k < 5; k++)
-            if (!(p2_detj(m->xyz, m->tet + 10 * (size_t)t, pts[k]) > 0))
-                return kt_fail(e, KT_ERUN, "eye: curved tet %d is inverted near its %s", t + 1,
-                               k < 4 ? "corners" : "centroid");
-    return KT_OK;
 }
 
 /* ---- driver ---------------------------------------------------------------------------- */
@@ -723,9 +643,9 @@ int kt_eye_mesh(const kt_eye *eye, int order, int quiet, kt_mesh *m, kt_err *e)
     gmshFinalize(&ierr);
     free(b.vol_region);
     free(b.surf_group);
-    if (rc == KT_OK) rc = warp_toric(&b.g, m, e);
+    if (rc == KT_OK) rc = kt_eye_warp_toric(&b.g, m, e);
     if (rc == KT_OK) rc = kt_mesh_check(m, "eye (after the toric map)", e);
-    if (rc == KT_OK) rc = check_curved(m, e);
+    if (rc == KT_OK) rc = kt_eye_check_curved(m, e);
     if (rc) kt_mesh_free(m);
     else kt_log(quiet, "eye: %d nodes, %d tets (order %d)\n", m->nn, m->ne, order);
     return rc;

@@ -16,6 +16,11 @@
 
 #include "mesh.h"
 
+/* The mesh group tags of the eye (names and meaning in eye.h). */
+enum { KT_EYE_REG_CORNEA = 1, KT_EYE_REG_LIMBUS, KT_EYE_REG_SCLERA };
+enum { KT_EYE_SURF_ANTERIOR = 1, KT_EYE_SURF_INNER, KT_EYE_SURF_FIXED, KT_EYE_SURF_OUTER,
+       KT_EYE_SURF_RING0 = 10 };
+
 /* The eye's parameters as the scene gives them (internal units mm, degrees). */
 #define KT_SCENE_MAX 16
 
@@ -92,5 +97,12 @@ int kt_eye_geom_ring(const kt_eye_geom *g, const kt_eye *eye, int i, double top[
  * (mm) of the eye with these parameters; NAN when the parameters are inconsistent. */
 double kt_eye_anterior_z(const kt_eye *eye, double x, double y);
 double kt_eye_thickness(const kt_eye *eye, double r);
+
+/* Map the nodes of a mesh of revolution onto the toric anterior surface of g (mid-edge nodes
+ * of the anterior cornea follow the surface); KT_ERUN when a node cannot be mapped. */
+int kt_eye_warp_toric(const kt_eye_geom *g, kt_mesh *m, kt_err *e);
+
+/* KT_ERUN naming the tet when a P2 tet's Jacobian is not positive at its corners or centre. */
+int kt_eye_check_curved(const kt_mesh *m, kt_err *e);
 
 #endif

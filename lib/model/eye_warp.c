@@ -1,0 +1,88 @@
+/* eye_warp.c: the toric anterior surface applied to a meshed eye of revolution, and the check
+ * that no curved (P2) tet came out inverted. */
+#include "eye_geom.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "topology.h"
+
+/* ---- toric warp ------------------------------------------------------------------------ */
+
+static void mark_group_nodes(const kt_mesh *m, int tag, char *mark)
+{
+    int fv = kt_tri_nv(m->order);
+    for (int i = 0; i < m->nf; i++)
+        if (m->tri_tag[i] == tag)
+            for (int j = 0; j < fv; j++) mark[m->tri[(size_t)i * fv + j]] = 1;
+}
+
+/* Map the base eye to the toric one: z += delta(x, y) w(rho, z); anterior nodes (and the
+ * limbus outer surface) are then put exactly on their surfaces. */
+int kt_eye_warp_toric(const kt_eye_geom *g, kt_mesh *m, kt_err *e)
+{
+    char *ant = kt_calloc((size_t)m->nn, 1, e), *out = kt_calloc((size_t)m->nn, 1, e);
+    if (!ant || !out) {
+        free(ant);
+        free(out);
+        return e->code;
+    }
+    mark_group_nodes(m, KT_EYE_SURF_ANTERIOR, ant);
+    mark_group_nodes(m, KT_EYE_SURF_OUTER, out);
+    for (int i = 0; i < m->nn; i++) {
+        double *p = m->xyz + 3 * (size_t)i, rho = hypot(p[0], p[1]);
+        if (ant[i]) {
+            p[2] = kt_eye_geom_toric_z(g, p[0], p[1]);
+        } else if (out[i] && atan2(rho, p[2]) < g->alphaL) {
+            p[2] = kt_eye_geom_outer_z(g, p[0], p[1]);
+        } else {
+            double w = kt_eye_geom_weight(g, rho, p[2]);
+            double delta = kt_eye_geom_toric_z(g, p[0], p[1]) - kt_eye_geom_sphere_z(g, rho);
+            if (w > 0) p[2] += w * delta;
+        }
+        if (!isfinite(p[2])) {
+            free(ant);
+            free(out);
+            return kt_fail(e, KT_ERUN, "eye: node %d left the toric surface's domain", i + 1);
+        }
+    }
+    free(ant);
+    free(out);
+    return KT_OK;
+}
+
+/* Jacobian determinant of a 10-node tet's quadratic map at barycentric point L (gmsh node
+ * order: vertices, then edges 01 12 20 30 32 31). */
+static double p2_detj(const double *xyz, const int *q, const double L[4])
+{
+    static const double dL[3][4] = {{-1, 1, 0, 0}, {-1, 0, 1, 0}, {-1, 0, 0, 1}};
+    double J[3][3] = {{0}};
+    for (int r = 0; r < 3; r++) {
+        for (int a = 0; a < 4; a++)
+            for (int c = 0; c < 3; c++) J[r][c] += (4 * L[a] - 1) * dL[r][a] * xyz[3 * q[a] + c];
+        for (int j = 0; j < 6; j++) {
+            int a = kt_tet_edge[j][0], b = kt_tet_edge[j][1];
+            double dn = 4 * (L[a] * dL[r][b] + L[b] * dL[r][a]);
+            for (int c = 0; c < 3; c++) J[r][c] += dn * xyz[3 * q[4 + j] + c];
+        }
+    }
+    return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+           J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+           J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+}
+
+/* Curved (P2) tets must stay valid after curving and the toric map: det J > 0 at the corners
+ * and the centroid. */
+int kt_eye_check_curved(const kt_mesh *m, kt_err *e)
+{
+    static const double pts[5][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1},
+                                     {0.25, 0.25, 0.25, 0.25}};
+    for (int t = 0; t < m->ne && m->order == 2; t++)
+        for (int k = 0; k < 5; k++)
+            if (!(p2_detj(m->xyz, m->tet + 10 * (size_t)t, pts[k]) > 0))
+                return kt_fail(e, KT_ERUN, "eye: curved tet %d is inverted near its %s", t + 1,
+                               k < 4 ? "corners" : "centroid");
+    return KT_OK;
+}
+
