@@ -3,7 +3,10 @@
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libopenblas-dev
       libgmsh-dev gmsh libcgal-dev libcgal-demo libyaml-dev libpng-dev
-      python3-meshio python3-numpy gnuplot-nox)
+      python3-meshio python3-numpy gnuplot-nox
+      # planning studies (plans/studies): GNU parallel and a Slurm cluster (tests/study_slurm.sh
+      # starts a single-node one: munge, slurmctld, slurmd, the sbatch client)
+      parallel slurm-wlm munge)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")

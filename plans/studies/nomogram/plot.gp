@@ -13,19 +13,20 @@ set xrange [0:100]
 set yrange [0:*]
 set multiplot layout 1,3 title 'keratome nomogram study: surgically induced astigmatism against arc'
 anch = "< awk -F'\t' '$1 == \"wallace\" && $3 == %d { print $4, $5 }' ".anchors
+anch60 = "< awk -F'\t' '$1 == \"wallace\" && $2 == \"60-70\" && $3 == %d { print $4, $5 }' ".anchors
 wang = "< awk -F'\t' '$1 == \"wang2003\" && $3 == %d { print $4, $5 }' ".anchors
 set title 'per incision count (reference eye, depth 0.9)'
 plot for [i=0:(nc > 0 ? nc - 1 : 0)] dir.'/by-count.dat' index i using 1:2 with linespoints lw 2 pt 7 title columnheader(1), \
-     sprintf(anch, 1) using 1:2 with points pt 6 ps 1.5 lc rgb 'black' title 'Wallace, one incision (band midpoints)', \
-     sprintf(anch, 2) using 1:2 with points pt 4 ps 1.5 lc rgb 'black' title 'Wallace, a pair (band midpoints)', \
+     sprintf(anch60, 1) using 1:2 with points pt 6 ps 1.5 lc rgb 'black' title 'Wallace 60-70 y, one incision (band midpoints)', \
+     sprintf(anch60, 2) using 1:2 with points pt 4 ps 1.5 lc rgb 'black' title 'Wallace 60-70 y, a pair (band midpoints)', \
      sprintf(wang, 1) using 1:2 with points pt 8 ps 2 lc rgb 'red' title 'Wang 2003, one 6 mm incision', \
      sprintf(wang, 2) using 1:2 with points pt 10 ps 2 lc rgb 'red' title 'Wang 2003, a pair'
 set title 'per depth (reference eye, paired)'
 plot for [i=0:(nd > 0 ? nd - 1 : 0)] dir.'/by-depth.dat' index i using 1:2 with linespoints lw 2 pt 7 title columnheader(1), \
-     sprintf(anch, 2) using 1:2 with points pt 4 ps 1.5 lc rgb 'black' title 'Wallace, a pair (band midpoints)', \
+     sprintf(anch60, 2) using 1:2 with points pt 4 ps 1.5 lc rgb 'black' title 'Wallace 60-70 y, a pair (band midpoints)', \
      sprintf(wang, 2) using 1:2 with points pt 10 ps 2 lc rgb 'red' title 'Wang 2003, a pair'
 set title 'per age (depth 0.9)'
 plot for [i=0:(na > 0 ? na - 1 : 0)] dir.'/by-age.dat' index i using 1:2 with linespoints lw 2 pt 7 title columnheader(1), \
-     sprintf(anch, 1) using 1:2 with points pt 6 ps 1.5 lc rgb 'black' title 'Wallace, one incision', \
-     sprintf(anch, 2) using 1:2 with points pt 4 ps 1.5 lc rgb 'black' title 'Wallace, a pair'
+     sprintf(anch, 1) using 1:2 with points pt 6 ps 1.5 lc rgb 'black' title 'Wallace 40-50, 60-70, 80+ y, one incision', \
+     sprintf(anch, 2) using 1:2 with points pt 4 ps 1.5 lc rgb 'black' title 'Wallace 40-50, 60-70, 80+ y, a pair'
 unset multiplot

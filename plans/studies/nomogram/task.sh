@@ -7,7 +7,9 @@
 # Everything is written under a temporary name and renamed when the job succeeded: a failed or
 # interrupted job leaves nothing that make would take as done, and a rerun starts it afresh.
 # BLAS threads are pinned (OPENBLAS_NUM_THREADS=1, OMP_NUM_THREADS=1) so that jobs running side by
-# side do not oversubscribe the cores. Environment: KT_BUILD (the tools' folder), KEEP_VTK.
+# side do not oversubscribe the cores. Environment: KT_BUILD (the tools' folder), KEEP_VTK (0:
+# delete the step VTKs once curvature has read them), AUGSOLVE_FLAGS (added to augsolve's
+# options, word-split; default none: augsolve's default method).
 set -euo pipefail
 kind=$1 out=$2 name=$3
 B=${KT_BUILD:?KT_BUILD not set}
@@ -41,7 +43,7 @@ run)
     t0=$(now)
     set +e
     "$B/cutplan" "$out/plans/$name.yaml" "$out/eyes/$eye.msh" -o - 2> "$part/cutplan.log" |
-        "$B/augsolve" "$out/eyes/$eye.msh" - -o "$part" > "$part/augsolve.log" 2>&1
+        "$B/augsolve" "$out/eyes/$eye.msh" - -o "$part" ${AUGSOLVE_FLAGS:-} > "$part/augsolve.log" 2>&1
     st=("${PIPESTATUS[@]}")
     set -e
     if [ "${st[0]}" -ne 0 ] || [ "${st[1]}" -ne 0 ]; then
