@@ -35,7 +35,7 @@ cleanup() {
     done
     if [ $rc -ne 0 ]; then
         echo "study_slurm: FAILED; logs:" >&2
-        tail -n 15 "$T"/log/*.log "$T"/slurm/slurm/*.out 2> /dev/null >&2 || true
+        tail -n 15 "$T"/log/*.log "$T"/slurm/slurm/*.out >&2 2> /dev/null || true
     fi
     rm -rf "$T"
     exit $rc
@@ -91,7 +91,7 @@ EOF
 export SLURM_CONF=$T/slurm.conf
 
 munged -F --force --key-file="$T/munge.key" --socket="$T/munge.sock" --pid-file="$T/munged.pid" \
-    --log-file="$T/log/munged.log" --seed-file="$T/munged.seed" &
+    --log-file="$T/log/munged.log" --seed-file="$T/munged.seed" > "$T/log/munged.out" 2>&1 &
 pids+=($!)
 for _ in $(seq 50); do [ -S "$T/munge.sock" ] && break; sleep 0.2; done
 slurmctld -D -f "$SLURM_CONF" > "$T/log/slurmctld.out" 2>&1 &
@@ -152,3 +152,14 @@ timeout 600 "${mk[@]}" OUT="$T/slurm" ENGINE=slurm "$target" > "$T/log/slurm-rer
 after=$(find "$T/slurm/eyes" "$T/slurm/runs" -newer "$S" | wc -l)
 [ "$before" -eq 0 ] && [ "$after" -eq 0 ] || { echo "study_slurm: the rerun redid work" >&2; exit 1; }
 echo "study_slurm: $((nl - 1)) cases equal between the local and the Slurm run"
+
+# ENGINE=parallel on a copy of the local results without their runs: the eye is kept (not
+# remeshed), the runs are redone through GNU parallel and give the same table.
+if [ -z "${STUDY_SLURM_NO_PARALLEL:-}" ]; then
+    cp -a "$T/local" "$T/par"
+    rm -rf "$T/par/runs" "$T/par/nomogram.tsv"
+    timeout "$limit" "${mk[@]}" OUT="$T/par" ENGINE=parallel "$target" > "$T/log/parallel.log" 2>&1
+    [ -z "$(find "$T/par/eyes" -newer "$T/par/set.txt")" ] || { echo "study_slurm: parallel remeshed" >&2; exit 1; }
+    cmp "$T/local/nomogram.tsv" "$T/par/nomogram.tsv"
+    echo "study_slurm: ENGINE=parallel gives the same table"
+fi

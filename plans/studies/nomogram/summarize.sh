@@ -122,37 +122,40 @@ for term in png svg; do
         "$here/plot.gp"
 done
 
-# 4. Timing: the study's jobs, and the naive cost: every case run alone (its eye meshed, its own
-# plan cut and solved from the intact eye up to its arc, its curvature). A run's steps.tsv gives
-# the factorization and every step's time, so a case's solve is the run's time up to its step.
+# 4. Timing: the study's jobs (wall and CPU seconds), and the naive cost: every case run alone
+# (its eye meshed, its own plan cut and solved from the intact eye up to its arc, its curvature).
+# A run's steps.tsv gives every step's time, so a case alone costs its eye's mesh-prep plus the
+# share of its run up to its step: (start-up and factorization + steps 1..k) / the whole run.
 {
-    printf 'job\tkind\twall_s\n'
-    for r in "${runs[@]}"; do awk -F'\t' -v OFS='\t' 'NR == 2 { print $1, "run", $2 + $3 }' "$out/runs/$r/time.tsv"; done
+    printf 'job\tkind\twall_s\tcpu_s\n'
+    for r in "${runs[@]}"; do
+        awk -F'\t' -v OFS='\t' 'NR == 2 { print $1, "run", $2 + $3, (NF > 3 ? $4 : $2 + $3) }' "$out/runs/$r/time.tsv"
+    done
     for e in $(awk -F'\t' 'NR > 1 { print $1 }' "$tmp/nomogram.tsv" | sort -u); do
-        awk -F'\t' -v OFS='\t' 'NR == 2 { print $1, "eye", $2 }' "$out/eyes/$e.time.tsv"
+        awk -F'\t' -v OFS='\t' 'NR == 2 { print $1, "eye", $2, (NF > 2 ? $3 : $2) }' "$out/eyes/$e.time.tsv"
     done
 } > "$tmp/timing.tsv"
-naive=0
+naive_wall=0 naive_cpu=0
 for r in "${runs[@]}"; do
     eye=$(awk -F'\t' 'NR == 2 { print $2 }' "$out/plans/$r.meta")
-    mp=$(awk -F'\t' 'NR == 2 { print $2 }' "$out/eyes/$eye.time.tsv")
-    # run wall time = start-up and factorization + the steps; curvature per step ~ its share
-    n=$(awk -F'\t' -v r="$r" 'NR > 1 && $21 == r' "$tmp/nomogram.tsv" | wc -l)
-    add=$(awk -F'\t' -v mp="$mp" -v r="$r" -v steps="$out/runs/$r/steps.tsv" -v tt="$out/runs/$r/time.tsv" '
+    read -r w c < <(awk -F'\t' -v r="$r" -v steps="$out/runs/$r/steps.tsv" -v tt="$out/runs/$r/time.tsv" \
+                          -v et="$out/eyes/$eye.time.tsv" '
         BEGIN {
-            getline h < tt; getline l < tt; split(l, t, "\t"); solve = t[2]; curv = t[3]
+            getline h < et; getline l < et; split(l, t, "\t"); mpw = t[2]; mpc = (t[3] != "") ? t[3] : t[2]
+            getline h < tt; getline l < tt; n = split(l, t, "\t"); rw = t[2] + t[3]; rc = (n > 3) ? t[4] : rw
             getline h < steps; nf = split(h, hc, "\t"); for (i = 1; i <= nf; i++) c[hc[i]] = i
-            while ((getline l < steps) > 0) { split(l, v, "\t"); k = v[c["step"]]; ms[k] = v[c["t_total_ms"]] / 1000; last = k }
+            while ((getline l < steps) > 0) { split(l, v, "\t"); ms[v[c["step"]]] = v[c["t_total_ms"]] / 1000; last = v[c["step"]] }
             tot = 0; for (k = 1; k <= last; k++) tot += ms[k]
-            base = solve - tot; if (base < 0) base = 0
+            base = t[2] - tot; if (base < 0) base = 0
         }
         NR > 1 && $21 == r { k = $20; s = base; for (j = 1; j <= k; j++) s += ms[j]
-                             cost += mp + s + curv * (k + 1) / (last + 1) }
-        END { printf "%.2f", cost }' "$tmp/nomogram.tsv")
-    naive=$(awk -v a="$naive" -v b="$add" 'BEGIN { printf "%.2f", a + b }')
+                             f = s / (base + tot); cw += mpw + rw * f; cc += mpc + rc * f }
+        END { printf "%.2f %.2f\n", cw, cc }' "$tmp/nomogram.tsv")
+    naive_wall=$(awk -v a="$naive_wall" -v b="$w" 'BEGIN { printf "%.2f", a + b }')
+    naive_cpu=$(awk -v a="$naive_cpu" -v b="$c" 'BEGIN { printf "%.2f", a + b }')
 done
-study=$(awk -F'\t' 'NR > 1 { s += $3 } END { printf "%.2f", s }' "$tmp/timing.tsv")
-printf 'total\tstudy\t%s\ntotal\tnaive\t%s\n' "$study" "$naive" >> "$tmp/timing.tsv"
+read -r study_wall study_cpu < <(awk -F'\t' 'NR > 1 { w += $3; c += $4 } END { printf "%.2f %.2f\n", w, c }' "$tmp/timing.tsv")
+printf 'total\tstudy\t%s\t%s\ntotal\tnaive\t%s\t%s\n' "$study_wall" "$study_cpu" "$naive_wall" "$naive_cpu" >> "$tmp/timing.tsv"
 
 # 5. report.md
 ncase=$(($(wc -l < "$tmp/nomogram.tsv") - 1))
@@ -179,8 +182,9 @@ rev=$(git -C "$here" rev-parse --short HEAD 2>/dev/null || echo unknown)
     echo
     echo "## Cost"
     echo
-    echo "Sum of job wall times $study s; the naive cost (each case meshed, cut and solved on its own,"
-    echo "estimated from the same runs' per-step times) $naive s: $(awk -v a="$naive" -v b="$study" 'BEGIN { printf "%.1f", a / b }')x."
+    echo "Jobs of the study: $study_wall s wall, $study_cpu s CPU in all. The naive cost (each case meshed,"
+    echo "cut and solved on its own, from the same runs' per-step times): $naive_wall s wall, $naive_cpu s CPU:"
+    echo "$(awk -v a="$naive_cpu" -v b="$study_cpu" 'BEGIN { printf "%.1f", a / b }')x the study's CPU time (timing.tsv). Wall times carry the machine's other load."
     echo
     echo "![SIA against arc](sia-vs-arc.svg)"
 } > "$tmp/report.md"

@@ -19,6 +19,10 @@ for tool in mesh-prep cutplan augsolve curvature; do
 done
 now() { date +%s.%N; }
 dt() { awk -v a="$1" -v b="$2" 'BEGIN { print b - a }'; }
+# CPU seconds (user + system) of the tools this shell ran: line 2 of bash's times, which must run
+# in this shell (a command substitution is a new process with no children), saved in $1.
+cpu() { awk 'NR == 2 { for (i = 1; i <= 2; i++) { split($i, p, /[ms]/); s += p[1] * 60 + p[2] }
+        printf "%.2f", s }' "$1"; rm -f "$1"; }
 case $kind in
 eye)
     mkdir -p "$out/eyes"
@@ -29,7 +33,9 @@ eye)
     "$B/mesh-prep" "$out/scenes/$name.yaml" -o "$part" > "$out/eyes/$name.log" 2>&1 ||
         { tail -n 20 "$out/eyes/$name.log" >&2; echo "task.sh: mesh-prep $name failed" >&2; exit 1; }
     t1=$(now)
-    printf 'eye\tmesh_prep_s\n%s\t%.2f\n' "$name" "$(dt "$t0" "$t1")" > "$out/eyes/$name.time.tsv"
+    times > "$out/eyes/$name.times"
+    printf 'eye\tmesh_prep_s\tcpu_s\n%s\t%.2f\t%s\n' "$name" "$(dt "$t0" "$t1")" \
+        "$(cpu "$out/eyes/$name.times")" > "$out/eyes/$name.time.tsv"
     mv -f "$part" "$out/eyes/$name.msh"
     trap - EXIT
     ;;
@@ -52,12 +58,13 @@ run)
         exit 1
     fi
     t1=$(now)
-    "$B/curvature" -q --no-png "$part" > "$part/curvature.log" 2>&1 ||
+    "$B/curvature" -q --no-png --no-vtk "$part" > "$part/curvature.log" 2>&1 ||
         { tail -n 20 "$part/curvature.log" >&2; echo "task.sh: curvature $name failed" >&2; exit 1; }
     t2=$(now)
-    [ "${KEEP_VTK:-1}" = 0 ] && rm -f "$part"/step-*.vtk "$part"/surface-*.vtk
-    printf 'run\tsolve_s\tcurvature_s\n%s\t%.2f\t%.2f\n' "$name" "$(dt "$t0" "$t1")" \
-        "$(dt "$t1" "$t2")" > "$part/time.tsv"
+    [ "${KEEP_VTK:-1}" = 0 ] && rm -f "$part"/step-*.vtk
+    times > "$part/times.txt"
+    printf 'run\tsolve_s\tcurvature_s\tcpu_s\n%s\t%.2f\t%.2f\t%s\n' "$name" "$(dt "$t0" "$t1")" \
+        "$(dt "$t1" "$t2")" "$(cpu "$part/times.txt")" > "$part/time.tsv"
     rm -rf "$out/runs/$name"
     mv "$part" "$out/runs/$name"
     trap - EXIT
