@@ -198,7 +198,7 @@ static void astig_add(double m1, double a1, double m2, double a2, double *mag, d
     const double r = 3.14159265358979323846 / 90; /* radians per degree, doubled */
     double x = m1 * cos(a1 * r) + m2 * cos(a2 * r), y = m1 * sin(a1 * r) + m2 * sin(a2 * r);
     *mag = hypot(x, y);
-    *ax = *mag > 0 ? fmod(atan2(y, x) / r + 180, 180) : 0;
+    *ax = *mag > 1e-9 ? fmod(atan2(y, x) / r + 180, 180) : 0; /* no axis for no cylinder */
 }
 
 static void answer_one(const kt_nomo *t, const kt_nomo_query *q, int n, double depth,
