@@ -26,7 +26,7 @@ cpu() { awk 'NR == 2 { for (i = 1; i <= 2; i++) { split($i, p, /[ms]/); s += p[1
 case $kind in
 eye)
     mkdir -p "$out/eyes"
-    part=$out/eyes/$name.part.msh
+    part=$out/eyes/$name.part$$.msh
     rm -f "$part"
     trap 'rm -f "$part"' EXIT
     t0=$(now)
@@ -42,7 +42,7 @@ eye)
 run)
     eye=$(awk -F'\t' 'NR == 2 { print $2 }' "$out/plans/$name.meta")
     mkdir -p "$out/runs"
-    part=$out/runs/$name.part
+    part=$out/runs/$name.part$$
     rm -rf "$part"
     trap 'rm -rf "$part"' EXIT
     mkdir -p "$part"
