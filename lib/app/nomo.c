@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "nomo.h"
 
+#include "curv.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -192,13 +194,16 @@ static int eye_arcs(const kt_nomo *t, const char *eye, int n, double depth, doub
     return m;
 }
 
-/* The double-angle sum of two astigmatisms (magnitude, axis in deg) into *mag, *ax. */
+/* The double-angle sum of two astigmatisms (magnitude, axis in deg) into *mag, *ax; no axis
+ * (0) for a vanishing sum. */
 static void astig_add(double m1, double a1, double m2, double a2, double *mag, double *ax)
 {
-    const double r = 3.14159265358979323846 / 90; /* radians per degree, doubled */
-    double x = m1 * cos(a1 * r) + m2 * cos(a2 * r), y = m1 * sin(a1 * r) + m2 * sin(a2 * r);
-    *mag = hypot(x, y);
-    *ax = *mag > 1e-9 ? fmod(atan2(y, x) / r + 180, 180) : 0; /* no axis for no cylinder */
+    double p[2], q[2];
+    kt_astig_xy((kt_astig){m1, a1}, p);
+    kt_astig_xy((kt_astig){m2, a2}, q);
+    kt_astig sum = kt_astig_from_xy(p[0] + q[0], p[1] + q[1]);
+    *mag = sum.mag;
+    *ax = sum.mag > 1e-9 ? sum.axis : 0;
 }
 
 static void answer_one(const kt_nomo *t, const kt_nomo_query *q, int n, double depth,
