@@ -118,16 +118,24 @@ int kt_cursor_expect(kt_cursor *r, const char *word)
     return KT_OK;
 }
 
-/* Parse a token as an integer within [lo, hi]. */
-int kt_cursor_ll(kt_cursor *r, long long lo, long long hi, long long *v, const char *what)
+/* The next token, NUL-terminated in buf (size bytes); a longer one is an error naming `kind`. */
+static int token_text(kt_cursor *r, char *buf, size_t size, const char *what, const char *kind)
 {
     const char *s;
     size_t len;
     if (kt_cursor_token(r, &s, &len, what)) return r->e->code;
-    char buf[32];
-    if (len >= sizeof buf) return kt_cursor_fail(r, "expected %s (an integer), found '%.20s...'", what, s);
+    if (len >= size) return kt_cursor_fail(r, "expected %s (%s), found '%.20s...'", what, kind, s);
     memcpy(buf, s, len);
     buf[len] = '\0';
+    return KT_OK;
+}
+
+/* Parse a token as an integer within [lo, hi]. */
+int kt_cursor_ll(kt_cursor *r, long long lo, long long hi, long long *v, const char *what)
+{
+    char buf[32];
+    if (token_text(r, buf, sizeof buf, what, "an integer")) return r->e->code;
+    size_t len = strlen(buf);
     char *end;
     errno = 0;
     long long x = strtoll(buf, &end, 10);
@@ -170,15 +178,10 @@ int kt_cursor_size(kt_cursor *r, size_t *v, const char *what)
 int kt_cursor_double(kt_cursor *r, double *v, const char *what)
 {
     if (r->bin) return kt_cursor_bytes(r, v, 8, what);
-    const char *s;
-    size_t len;
-    if (kt_cursor_token(r, &s, &len, what)) return r->e->code;
     char buf[64];
-    if (len >= sizeof buf) return kt_cursor_fail(r, "expected %s (a number), found '%.20s...'", what, s);
-    memcpy(buf, s, len);
-    buf[len] = '\0';
+    if (token_text(r, buf, sizeof buf, what, "a number")) return r->e->code;
     char *end;
     *v = strtod(buf, &end);
-    if (end != buf + len) return kt_cursor_fail(r, "expected %s (a number), found '%s'", what, buf);
+    if (*end) return kt_cursor_fail(r, "expected %s (a number), found '%s'", what, buf);
     return KT_OK;
 }

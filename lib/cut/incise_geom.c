@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 double kt_incise_theta(const double *x) { return atan2(x[1], x[0]) * (180.0 / M_PI); }
@@ -75,17 +76,25 @@ static void cell_range(const sgrid *g, double lo, double hi, double o, int n, in
     if (*b > n - 1) *b = n - 1;
 }
 
-static int sgrid_build(sgrid *g, const kt_mesh *m, const int *tris, int nt, kt_err *e)
+/* The x-y bounding box (xmin, xmax, ymin, ymax) of the corners of triangle t. */
+static void tri_box(const kt_mesh *m, int t, double tb[4])
 {
     int fv = kt_tri_nv(m->order);
+    tb[0] = tb[2] = HUGE_VAL;
+    tb[1] = tb[3] = -HUGE_VAL;
+    for (int k = 0; k < 3; k++) {
+        const double *x = m->xyz + 3 * (size_t)m->tri[(size_t)t * fv + k];
+        tb[0] = fmin(tb[0], x[0]), tb[1] = fmax(tb[1], x[0]);
+        tb[2] = fmin(tb[2], x[1]), tb[3] = fmax(tb[3], x[1]);
+    }
+}
+
+static int sgrid_build(sgrid *g, const kt_mesh *m, const int *tris, int nt, kt_err *e)
+{
     double bb[4] = {HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL}, ext = 0;
     for (int i = 0; i < nt; i++) {
-        double tb[4] = {HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL};
-        for (int k = 0; k < 3; k++) {
-            const double *x = m->xyz + 3 * (size_t)m->tri[(size_t)tris[i] * fv + k];
-            tb[0] = fmin(tb[0], x[0]), tb[1] = fmax(tb[1], x[0]);
-            tb[2] = fmin(tb[2], x[1]), tb[3] = fmax(tb[3], x[1]);
-        }
+        double tb[4];
+        tri_box(m, tris[i], tb);
         ext = fmax(ext, fmax(tb[1] - tb[0], tb[3] - tb[2]));
         bb[0] = fmin(bb[0], tb[0]), bb[1] = fmax(bb[1], tb[1]);
         bb[2] = fmin(bb[2], tb[2]), bb[3] = fmax(bb[3], tb[3]);
@@ -102,12 +111,8 @@ static int sgrid_build(sgrid *g, const kt_mesh *m, const int *tris, int nt, kt_e
     if (!g->cp) return e->code;
     for (int pass = 0; pass < 2; pass++) {
         for (int i = 0; i < nt; i++) {
-            double tb[4] = {HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL};
-            for (int k = 0; k < 3; k++) {
-                const double *x = m->xyz + 3 * (size_t)m->tri[(size_t)tris[i] * fv + k];
-                tb[0] = fmin(tb[0], x[0]), tb[1] = fmax(tb[1], x[0]);
-                tb[2] = fmin(tb[2], x[1]), tb[3] = fmax(tb[3], x[1]);
-            }
+            double tb[4];
+            tri_box(m, tris[i], tb);
             int ia, ib, ja, jb;
             cell_range(g, tb[0], tb[1], g->x0, g->nx, &ia, &ib);
             cell_range(g, tb[2], tb[3], g->y0, g->ny, &ja, &jb);
@@ -231,3 +236,12 @@ double kt_incise_median_edge(const kt_mesh *m, const int *tris, int nt, kt_err *
     return h;
 }
 
+void kt_incise_arc_phase(const kt_incision *inc, int index, kt_phase *ph)
+{
+    ph->kind = KT_PHASE_CUT;
+    snprintf(ph->name, sizeof ph->name, "incision %d", index + 1);
+    ph->key_unit = KT_KEY_DEG;
+    ph->total = inc->arc;
+    ph->dps = inc->prog.nodes_per_step > 0 ? 0 : inc->prog.degrees_per_step;
+    ph->nps = inc->prog.nodes_per_step;
+}

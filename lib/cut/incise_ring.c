@@ -128,12 +128,7 @@ int kt_incise_ring_phase(kt_incise *c, const kt_incision *inc, int index, kt_pha
 {
     int *tris = NULL, *slots = NULL, nt = 0;
     double *depth = NULL;
-    ph->kind = KT_PHASE_CUT;
-    snprintf(ph->name, sizeof ph->name, "incision %d", index + 1);
-    ph->key_unit = KT_KEY_DEG;
-    ph->total = inc->arc;
-    ph->dps = inc->prog.nodes_per_step > 0 ? 0 : inc->prog.degrees_per_step;
-    ph->nps = inc->prog.nodes_per_step;
+    kt_incise_arc_phase(inc, index, ph);
     if (ring_faces(c, inc, &tris, &slots, &nt, e) || ring_depths(c, tris, nt, &depth, e)) goto done;
     /* the floor snaps to the ring layer within a quarter element of the requested depth */
     double h = kt_incise_median_edge(c->m, tris, nt, e), deepest = 0;

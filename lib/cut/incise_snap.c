@@ -377,12 +377,7 @@ done:
 int kt_incise_cylinder_phase(kt_incise *c, const kt_incision *inc, int index, kt_phase *ph,
                              kt_err *e)
 {
-    ph->kind = KT_PHASE_CUT;
-    snprintf(ph->name, sizeof ph->name, "incision %d", index + 1);
-    ph->key_unit = KT_KEY_DEG;
-    ph->total = inc->arc;
-    ph->dps = inc->prog.nodes_per_step > 0 ? 0 : inc->prog.degrees_per_step;
-    ph->nps = inc->prog.nodes_per_step;
+    kt_incise_arc_phase(inc, index, ph);
     cylinder surf = {0.5 * inc->diameter};
     signed char *cls = classify(c, cylinder_side, &surf, e);
     if (!cls || interface(c, cls, ph, e) || select_arc_faces(c, inc, ph, e)) goto done;

@@ -3,6 +3,7 @@
  * residual b - A x, never on the recurrence alone. */
 #include "krylov.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,6 +36,7 @@ typedef struct gmres_ws {
     double *V;    /* (k+1) basis vectors of length n */
     double *H;    /* (k+1) x k Hessenberg, column-major */
     double *cs, *sn, *g, *y, *w, *z;
+    double *xbest; /* the iterate with the smallest true residual so far */
 } gmres_ws;
 
 static void gmres_ws_free(gmres_ws *w)
@@ -47,6 +49,7 @@ static void gmres_ws_free(gmres_ws *w)
     free(w->y);
     free(w->w);
     free(w->z);
+    free(w->xbest);
 }
 
 static int gmres_ws_alloc(gmres_ws *w, int n, int k, kt_err *e)
@@ -62,6 +65,7 @@ static int gmres_ws_alloc(gmres_ws *w, int n, int k, kt_err *e)
     w->y = kt_calloc((size_t)k, sizeof(double), e);
     w->w = kt_calloc((size_t)n, sizeof(double), e);
     w->z = kt_calloc((size_t)n, sizeof(double), e);
+    w->xbest = kt_calloc((size_t)n, sizeof(double), e);
     if (e->code) gmres_ws_free(w);
     return e->code;
 }
@@ -96,10 +100,20 @@ static void givens(gmres_ws *W, int j)
     W->g[j] = W->cs[j] * W->g[j];
 }
 
-/* x += M^-1 (V y) for the j basis vectors built in this cycle. */
+/* x += M^-1 (V y) for the j basis vectors built in this cycle. A numerically zero diagonal of
+ * the triangular factor (A singular on the Krylov space, e.g. an inconsistent system) ends the
+ * solve at the columns before it: their least-squares solution, instead of a division by
+ * rounding noise that would throw x far away. */
 static int update_solution(gmres_ws *W, int j, kt_krylov_op M, void *mctx, double *x, kt_err *e)
 {
     int n = W->n, ld = W->k + 1;
+    double rmax = 0;
+    for (int i = 0; i < j; i++) rmax = fmax(rmax, fabs(W->H[(size_t)i * ld + i]));
+    for (int i = 0; i < j; i++)
+        if (fabs(W->H[(size_t)i * ld + i]) <= DBL_EPSILON * rmax || rmax == 0) {
+            j = i;
+            break;
+        }
     for (int i = j - 1; i >= 0; i--) {
         double s = W->g[i];
         for (int l = i + 1; l < j; l++) s -= W->H[(size_t)l * ld + i] * W->y[l];
@@ -168,15 +182,20 @@ int kt_krylov_gmres(int n, kt_krylov_op A, void *actx, kt_krylov_op M, void *mct
     int k = o->restart < 1 ? 1 : (o->restart > n ? n : o->restart);
     gmres_ws W;
     if (gmres_ws_alloc(&W, n, k, e)) return e->code;
-    double target = o->tol * bn, best = HUGE_VAL;
+    double target = o->tol * bn, best = HUGE_VAL, lowest = HUGE_VAL, last = HUGE_VAL;
     int cycles_since = 0, iters_best = 0;
     for (;;) {
         double beta = residual(n, A, actx, b, x, W.w, e);
         if (beta < 0) break;
         st->relres = beta / bn;
+        last = beta;
         if (beta <= target) {
             st->converged = 1;
             break;
+        }
+        if (beta < lowest) {
+            lowest = beta;
+            memcpy(W.xbest, x, sizeof(double) * n);
         }
         if (st->iters >= o->maxit) break;
         /* no 10% gain over several cycles and iterations: the floor rounding in A sets */
@@ -191,6 +210,12 @@ int kt_krylov_gmres(int n, kt_krylov_op A, void *actx, kt_krylov_op M, void *mct
         for (int i = 0; i < n; i++) W.V[i] = W.w[i] / beta;
         int j = gmres_cycle(&W, A, actx, M, mctx, beta, target, o->maxit - st->iters, &st->iters, e);
         if (j < 0 || update_solution(&W, j, M, mctx, x, e)) break;
+    }
+    /* not converged: return the best iterate seen, not the last (on a singular or inconsistent
+     * system rounding can carry the last one far away) */
+    if (!e->code && !st->converged && lowest < last) {
+        memcpy(x, W.xbest, sizeof(double) * n);
+        st->relres = lowest / bn;
     }
     gmres_ws_free(&W);
     return e->code;

@@ -1,0 +1,152 @@
+/* test_util.c: atomic output (a committed file appears whole, an aborted one leaves no file and
+ * no temporary, an old file survives an aborted rewrite), errors (first one wins), allocation
+ * overflow, and the whole-string number parsers. */
+#define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
+#include <limits.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "kt_test.h"
+#include "util.h"
+
+static char dir[64];
+
+/* Entries in dir other than . and .. */
+static int count_entries(const char *d)
+{
+    DIR *h = opendir(d);
+    if (!h) return -1;
+    int n = 0;
+    struct dirent *de;
+    while ((de = readdir(h)))
+        if (strcmp(de->d_name, ".") && strcmp(de->d_name, "..")) n++;
+    closedir(h);
+    return n;
+}
+
+/* The file's whole content into buf (NUL-terminated); -1 when it cannot be read. */
+static long slurp(const char *path, char *buf, size_t cap)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return -1;
+    size_t n = fread(buf, 1, cap - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    return (long)n;
+}
+
+static void test_atomic_output(void)
+{
+    char sub[128], path[192], buf[256];
+    snprintf(sub, sizeof sub, "%s/out", dir);
+    kt_err e = {0};
+    CHECK(kt_mkdir_p(sub, &e) == 0, "%s", e.msg);
+    snprintf(path, sizeof path, "%s/result.tsv", sub);
+
+    /* aborted: nothing at all in the folder */
+    kt_out o;
+    CHECK(kt_out_open(&o, path, &e) == 0 && o.f, "%s", e.msg);
+    fprintf(o.f, "partial line\n");
+    fflush(o.f);
+    CHECK(count_entries(sub) == 1, "while writing: the temporary only (%d entries)", count_entries(sub));
+    CHECK(slurp(path, buf, sizeof buf) < 0, "the target exists before commit");
+    kt_out_abort(&o);
+    CHECK(count_entries(sub) == 0, "after abort: %d entries left", count_entries(sub));
+
+    /* committed: the whole content, no temporary, mode 0644 */
+    CHECK(kt_out_open(&o, path, &e) == 0, "%s", e.msg);
+    fprintf(o.f, "a\tb\n1\t2\n");
+    CHECK(kt_out_commit(&o, &e) == 0, "%s", e.msg);
+    CHECK(slurp(path, buf, sizeof buf) == 8 && strcmp(buf, "a\tb\n1\t2\n") == 0, "content '%s'", buf);
+    CHECK(count_entries(sub) == 1, "after commit: %d entries", count_entries(sub));
+    struct stat sb;
+    CHECK(stat(path, &sb) == 0 && (sb.st_mode & 0777) == 0644, "mode %o", (unsigned)(sb.st_mode & 0777));
+
+    /* an aborted rewrite leaves the old file as it was */
+    CHECK(kt_out_open(&o, path, &e) == 0, "%s", e.msg);
+    fprintf(o.f, "new content that must not appear\n");
+    kt_out_abort(&o);
+    CHECK(slurp(path, buf, sizeof buf) == 8 && strcmp(buf, "a\tb\n1\t2\n") == 0, "old file changed: '%s'", buf);
+    CHECK(count_entries(sub) == 1, "after aborted rewrite: %d entries", count_entries(sub));
+    kt_out_abort(&o); /* a second abort is harmless */
+
+    /* a folder that does not exist: input error naming the path, nothing created */
+    char bad[192];
+    snprintf(bad, sizeof bad, "%s/no-such-dir/x.tsv", dir);
+    kt_err e2 = {0};
+    CHECK(kt_out_open(&o, bad, &e2) == KT_EINPUT && strncmp(e2.msg, bad, strlen(bad)) == 0, "'%s'", e2.msg);
+    CHECK(o.f == NULL && o.tmp == NULL && o.path == NULL, "a failed open holds nothing");
+
+    /* nested folders */
+    char deep[192];
+    snprintf(deep, sizeof deep, "%s/a/b/c", dir);
+    CHECK(kt_mkdir_p(deep, &e) == 0 && kt_mkdir_p(deep, &e) == 0, "%s", e.msg);
+    CHECK(stat(deep, &sb) == 0 && S_ISDIR(sb.st_mode), "nested folder made");
+}
+
+static void test_errors_and_alloc(void)
+{
+    kt_err e = {0};
+    CHECK(kt_fail(&e, KT_EINPUT, "first %d", 1) == KT_EINPUT, "returns its code");
+    kt_fail(&e, KT_ERUN, "second");
+    CHECK(e.code == KT_EINPUT && strcmp(e.msg, "first 1") == 0, "first error wins: %d '%s'", e.code, e.msg);
+    kt_err e2 = {0};
+    void *p = kt_calloc(SIZE_MAX / 4, 8, &e2);
+    CHECK(p == NULL && e2.code == KT_ERUN, "overflowing calloc: code %d", e2.code);
+    kt_err e3 = {0};
+    int *q = kt_calloc(4, sizeof(int), &e3);
+    CHECK(q && q[0] == 0 && q[3] == 0 && e3.code == 0, "calloc zeroes");
+    int *r = kt_realloc(q, SIZE_MAX / 2, sizeof(int), &e3);
+    CHECK(r == NULL && e3.code == KT_ERUN, "overflowing realloc");
+    free(r ? r : q);
+    kt_err e4 = {0};
+    char *s = kt_strdup("cornea", &e4);
+    CHECK(s && strcmp(s, "cornea") == 0, "strdup");
+    free(s);
+}
+
+static void test_parse(void)
+{
+    struct { const char *s; double v; } okd[] = {{"1.5", 1.5}, {"-2e-3", -2e-3}, {"0", 0}, {"1e300", 1e300},
+                                               {"+7", 7}, {".25", 0.25}};
+    for (size_t i = 0; i < sizeof okd / sizeof okd[0]; i++) {
+        double v = -1;
+        CHECK(kt_parse_double(okd[i].s, &v) == 0 && v == okd[i].v, "'%s' -> %g", okd[i].s, v);
+    }
+    const char *badd[] = {"", "1.5x", "x", "1e999", "-1e999", "1.5 ", "1,5", "--1"};
+    for (size_t i = 0; i < sizeof badd / sizeof badd[0]; i++) {
+        double v;
+        CHECK(kt_parse_double(badd[i], &v) != 0, "'%s' accepted as a double", badd[i]);
+    }
+    struct { const char *s; int v; } oki[] = {{"0", 0}, {"42", 42}, {"-7", -7}, {"2147483647", INT_MAX},
+                                            {"-2147483648", INT_MIN}, {"007", 7}};
+    for (size_t i = 0; i < sizeof oki / sizeof oki[0]; i++) {
+        int v = -1;
+        CHECK(kt_parse_int(oki[i].s, &v) == 0 && v == oki[i].v, "'%s' -> %d", oki[i].s, v);
+    }
+    const char *badi[] = {"", "2147483648", "-2147483649", "99999999999999999999", "1.0", "12a", "0x10", "1e3", " "};
+    for (size_t i = 0; i < sizeof badi / sizeof badi[0]; i++) {
+        int v = 123;
+        CHECK(kt_parse_int(badi[i], &v) != 0, "'%s' accepted as an int", badi[i]);
+        CHECK(v == 123, "'%s': rejected, yet the output changed to %d", badi[i], v);
+    }
+}
+
+int main(void)
+{
+    snprintf(dir, sizeof dir, "/tmp/kt-util-XXXXXX");
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    test_atomic_output();
+    test_errors_and_alloc();
+    test_parse();
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
+    return kt_test_done("test_util");
+}
