@@ -101,7 +101,7 @@ NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
   key = e SUBSEP n SUBSEP d SUBSEP $c["diameter_mm"]
   if (!(key in rows)) { nk++; keys[nk] = key }
   rows[key] = rows[key] $c["arc_deg"] "\t" $c["sia_D"] "\n"
-  age[e] = $c["age_y"]; cyl[e] = $c["cyl_pre_D"] }
+  age[e] = $c["age_y"]; cyl[e] = $c["cyl_pre_D"]; if (d + 0 > maxd[e] + 0) maxd[e] = d }
 END {
     # the reference eye: the one with the most runs
     for (k = 1; k <= nk; k++) { split(keys[k], p, SUBSEP); cnt[p[1]]++ }
@@ -109,7 +109,7 @@ END {
     for (k = 1; k <= nk; k++) {
         split(keys[k], p, SUBSEP)
         t = sprintf("%s, %s y, %.2f D: %s, depth %s, %s mm", p[1], age[p[1]], cyl[p[1]], p[2] == 2 ? "paired" : "single", p[3], p[4])
-        if (p[1] == ref) { print "\"" t "\"\n" rows[keys[k]] "\n" >> (T "/by-count.dat"); nc++ }
+        if (p[1] == ref && p[3] == maxd[ref]) { print "\"" t "\"\n" rows[keys[k]] "\n" >> (T "/by-count.dat"); nc++ }
         if (p[1] == ref && p[2] == 2) { print "\"" t "\"\n" rows[keys[k]] "\n" >> (T "/by-depth.dat"); nd++ }
         if (p[3] == 0.9 || p[3] == "0.9") { print "\"" t "\"\n" rows[keys[k]] "\n" >> (T "/by-age.dat"); na++ }
     }
