@@ -1,4 +1,5 @@
-/* augsolve: apply an edits stream step by step with the augmented-matrix method. */
+/* augsolve: apply an edits stream step by step: the planned method (one factorization for
+ * every step) by default, the augmented-matrix method and the baselines on request. */
 #include <getopt.h>
 #include <stdio.h>
 #include <string.h>
@@ -7,19 +8,26 @@
 
 static const char *USAGE =
     "usage: augsolve MESH.msh EDITS -o RUN_DIR [options]\n"
-    "Apply the edits stream (keratome-edits(5); - reads stdin, each step solved as soon as its\n"
-    "'end' arrives) to the mesh step by step and solve the linear elastic response under the\n"
-    "scene's loads. Step 0 is the intact scene. Writes RUN_DIR/step-NNNN.vtk, steps.tsv, run.yaml.\n"
+    "Apply the edits stream (keratome-edits(5); - reads stdin) to the mesh step by step and solve\n"
+    "the linear elastic response under the scene's loads. Step 0 is the intact scene. Writes\n"
+    "RUN_DIR/step-NNNN.vtk, steps.tsv, run.yaml. The default method (planned) reads the whole\n"
+    "stream, checks it, factors the final cut mesh's augmented matrix once and solves every step\n"
+    "exactly from it; the other methods solve each step as soon as its 'end' arrives.\n"
     "  -o RUN_DIR            the run folder (created if needed; required)\n"
     "  --scene PATH          scene YAML (default: the one the edits header names)\n"
-    "  --method M            augmented (default), refactor, cg, pcg-jacobi\n"
+    "  --method M            planned (default), augmented (the paper's iterative method),\n"
+    "                        refactor, cg, pcg-jacobi\n"
+    "  --steps LIST          write only these steps (e.g. 3,6,10-12; step 0 always); the\n"
+    "                        planned method solves only these, all from one factorization\n"
     "  --tol T               relative residual to stop at (default 1e-10): of the Schur system\n"
-    "                        for GMRES, of K u = f for CG (steps.tsv reports the latter)\n"
+    "                        for GMRES, of K u = f for CG (steps.tsv reports the latter); the\n"
+    "                        planned method's largest backward error (one refinement step first)\n"
     "  --restart N           GMRES restart length (default 200)\n"
     "  --maxit N             iteration cap (default 2000 GMRES, 20000 CG)\n"
     "  --precond P           none, diag (H D^-1 J), spai (H S J, tridiagonal) or\n"
     "                        local (default; T^-1 by its block on Lset and the rows of J)\n"
-    "  --ordering O          natural (the mesh's order, default), amd, metis\n"
+    "  --ordering O          natural, amd, metis (default metis for planned, where it orders\n"
+    "                        the intact block, natural (the mesh's order) for the others)\n"
     "  --factor F            supernodal (default) or simplicial\n"
     "  --refactor POLICY     never (default), m>N, every:N, auto: background re-factorization\n"
     "  --refactor-sync       wait for a started factorization at the next step (reproducible)\n"
@@ -31,6 +39,7 @@ static const char *USAGE =
     "  --binary              binary legacy VTK\n"
     "  -q, --quiet           no progress on stderr\n"
     "  -h, --help            this text\n"
+    "      --version         the version (the CMake project version)\n"
     "Exit status: 0 ok, 1 numerical failure (GMRES/CG missing --tol, a factor that is not\n"
     "positive definite, a --verify difference above --verify-tol), 2 bad usage or input.\n"
     "See augsolve(1) and keratome-edits(5).\n";
@@ -43,7 +52,7 @@ static int usage_error(const char *msg, const char *arg)
 }
 
 enum { O_SCENE = 256, O_METHOD, O_TOL, O_RESTART, O_MAXIT, O_PRECOND, O_ORDERING, O_FACTOR,
-       O_REFACTOR, O_SYNC, O_OUTPUT, O_VERIFY, O_VTOL, O_NOVTK, O_BINARY };
+       O_REFACTOR, O_SYNC, O_OUTPUT, O_VERIFY, O_VTOL, O_NOVTK, O_BINARY, O_STEPS };
 
 /* One option; returns 0, or the exit code of a usage error. */
 static int option(int c, const char *arg, kt_aug_run_opts *o)
@@ -85,6 +94,7 @@ static int option(int c, const char *arg, kt_aug_run_opts *o)
                    ? usage_error("--verify-tol expects a positive number", arg) : 0;
     case O_NOVTK: o->vtk = 0; return 0;
     case O_BINARY: o->binary = 1; return 0;
+    case O_STEPS: o->steps = arg; return 0;
     }
     return usage_error("unknown or incomplete option", arg);
 }
@@ -101,16 +111,20 @@ int main(int argc, char **argv)
         {"refactor-sync", no_argument, NULL, O_SYNC}, {"output", required_argument, NULL, O_OUTPUT},
         {"verify", no_argument, NULL, O_VERIFY}, {"verify-tol", required_argument, NULL, O_VTOL},
         {"no-vtk", no_argument, NULL, O_NOVTK}, {"binary", no_argument, NULL, O_BINARY},
-        {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+        {"steps", required_argument, NULL, O_STEPS},
+        {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'},
+        {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
     kt_aug_run_opts o;
-    memset(&o, 0, sizeof o);
-    o.vtk = 1;
-    kt_aug_opts_default(&o.aug);
+    kt_aug_run_opts_default(&o);
     int c, rc;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "o:qh", LONG, NULL)) != -1) {
         if (c == 'h') {
             fputs(USAGE, stdout);
+            return 0;
+        }
+        if (c == 'V') {
+            puts("augsolve (keratome) " KT_VERSION);
             return 0;
         }
         if (c == '?' || c == ':') return usage_error("unknown or incomplete option", argv[optind - 1]);

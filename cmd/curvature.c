@@ -13,8 +13,9 @@ static const char usage[] =
     "       curvature [options] --mesh MESH.msh STEP.vtk...\n"
     "Simulated keratometry of the deformed anterior cornea at every step: K steep/flat, axis,\n"
     "cylinder, flattening of the incised meridian, steepening of the orthogonal one, coupling\n"
-    "ratio and Alpins vector analysis; writes curvature.tsv, meridians.tsv, surface-NNNN.vtk and\n"
-    "axial-NNNN.png, and prints a summary.\n"
+    "ratio, Alpins vector analysis, posterior and total corneal power; writes curvature.tsv,\n"
+    "meridians.tsv, surface-NNNN.vtk, axial-NNNN.png, report.html and (RUN_DIR) steps.pvd, and\n"
+    "prints a summary.\n"
     "  --zone MM          keratometry zone diameter, mm (3, 5 or 7; default 3)\n"
     "  --fit KIND         toric (default: biconic with free apex) or zernike\n"
     "  --order N          Zernike order of the zone fit (2..12, default 6)\n"
@@ -27,22 +28,26 @@ static const char usage[] =
     "  --png / --no-png   write the axial power maps (default on)\n"
     "  --no-vtk           do not write the surface VTKs\n"
     "  --scale TSV        colour scale of the maps (default share/colour/axial.tsv)\n"
+    "  --no-report        do not write report.html\n"
+    "  --json             print the summary as JSON (one object) instead of text\n"
     "  -o OUTDIR          output folder (default RUN_DIR, or . with --mesh)\n"
     "  -q                 no progress on stderr\n"
-    "  -h, --help         this help\n";
+    "  -h, --help         this help\n"
+    "      --version      the version (the CMake project version)\n"
+    "Exit status: 0 ok, 1 run-time failure, 2 bad usage or input. See curvature(1).\n";
 
 static int bad(const char *fmt, const char *arg)
 {
     fprintf(stderr, "curvature: ");
     fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n");
+    fprintf(stderr, " (see curvature --help)\n");
     return KT_EINPUT;
 }
 
 int main(int argc, char **argv)
 {
     enum { O_ZONE = 256, O_FIT, O_ORDER, O_MAPZONE, O_MAPORDER, O_MERIDIAN, O_PLAN, O_MESH, O_PNG,
-           O_NOPNG, O_NOVTK, O_SCALE };
+           O_NOPNG, O_NOVTK, O_SCALE, O_NOREPORT, O_JSON, O_VERSION };
     static const struct option lo[] = {
         {"zone", required_argument, 0, O_ZONE},         {"fit", required_argument, 0, O_FIT},
         {"order", required_argument, 0, O_ORDER},       {"map-zone", required_argument, 0, O_MAPZONE},
@@ -50,10 +55,13 @@ int main(int argc, char **argv)
         {"plan", required_argument, 0, O_PLAN},         {"mesh", required_argument, 0, O_MESH},
         {"png", no_argument, 0, O_PNG},                 {"no-png", no_argument, 0, O_NOPNG},
         {"no-vtk", no_argument, 0, O_NOVTK},            {"scale", required_argument, 0, O_SCALE},
-        {"help", no_argument, 0, 'h'},                  {0, 0, 0, 0}};
+        {"no-report", no_argument, 0, O_NOREPORT},      {"json", no_argument, 0, O_JSON},
+        {"version", no_argument, 0, O_VERSION},         {"help", no_argument, 0, 'h'},
+        {0, 0, 0, 0}};
     kt_curv_opts o;
     kt_curv_opts_default(&o);
     int c;
+    opterr = 0;
     while ((c = getopt_long(argc, argv, "o:qh", lo, NULL)) != -1) {
         switch (c) {
         case O_ZONE:
@@ -89,8 +97,11 @@ int main(int argc, char **argv)
         case O_SCALE: o.scale = optarg; break;
         case 'o': o.outdir = optarg; break;
         case 'q': o.quiet = 1; break;
+        case O_NOREPORT: o.report = 0; break;
+        case O_JSON: o.json = 1; break;
+        case O_VERSION: puts("curvature (keratome) " KT_VERSION); return 0;
         case 'h': fputs(usage, stdout); return 0;
-        default: fputs(usage, stderr); return KT_EINPUT;
+        default: return bad("unknown or incomplete option: %s", argv[optind - 1]);
         }
     }
     if (o.mesh) {
@@ -98,10 +109,7 @@ int main(int argc, char **argv)
         o.nvtk = argc - optind;
         if (o.nvtk < 1) return bad("%s: expected at least one step VTK after --mesh", o.mesh);
     } else {
-        if (argc - optind != 1) {
-            fputs(usage, stderr);
-            return KT_EINPUT;
-        }
+        if (argc - optind != 1) return bad("%s", "expected one RUN_DIR, or --mesh MESH.msh STEP.vtk...");
         o.run_dir = argv[optind];
     }
     kt_err e = {0};

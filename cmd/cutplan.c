@@ -16,6 +16,7 @@ static const char *USAGE =
     "  --binary              binary MSH for --mesh-out\n"
     "  -q, --quiet           no progress or summary on stderr\n"
     "  -h, --help            this text\n"
+    "      --version         the version (the CMake project version)\n"
     "Exit status: 0 ok, 1 run-time failure (e.g. snapping would invert an element), 2 bad\n"
     "usage or input. See cutplan(1) and keratome-plan(5).\n";
 
@@ -32,6 +33,7 @@ int main(int argc, char **argv)
                                          {"binary", no_argument, NULL, 'b'},
                                          {"quiet", no_argument, NULL, 'q'},
                                          {"help", no_argument, NULL, 'h'},
+                                         {"version", no_argument, NULL, 'V'},
                                          {NULL, 0, NULL, 0}};
     kt_cutplan_opts o = {0};
     int c;
@@ -43,6 +45,7 @@ int main(int argc, char **argv)
         case 'b': o.binary = 1; break;
         case 'q': o.quiet = 1; break;
         case 'h': fputs(USAGE, stdout); return 0;
+        case 'V': puts("cutplan (keratome) " KT_VERSION); return 0;
         default: return usage_error("unknown or incomplete option", argv[optind - 1]);
         }
     }

@@ -17,6 +17,7 @@ static const char *USAGE =
     "  --binary             binary MSH instead of ASCII\n"
     "  -q, --quiet          no progress on stderr\n"
     "  -h, --help           this text\n"
+    "      --version        the version (the CMake project version)\n"
     "Exit status: 0 ok, 1 run-time failure, 2 bad usage or input. See mesh-prep(1) and\n"
     "keratome-scene(5).\n";
 
@@ -42,6 +43,7 @@ int main(int argc, char **argv)
                                          {"binary", no_argument, NULL, 'b'},
                                          {"quiet", no_argument, NULL, 'q'},
                                          {"help", no_argument, NULL, 'h'},
+                                         {"version", no_argument, NULL, 'V'},
                                          {NULL, 0, NULL, 0}};
     kt_prep_opts o = {0};
     int c;
@@ -59,6 +61,7 @@ int main(int argc, char **argv)
         case 'b': o.binary = 1; break;
         case 'q': o.quiet = 1; break;
         case 'h': fputs(USAGE, stdout); return 0;
+        case 'V': puts("mesh-prep (keratome) " KT_VERSION); return 0;
         default: return usage_error("unknown or incomplete option", argv[optind - 1]);
         }
     }

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # demo.sh [RUN_DIR]: the keratome demo. The default eye (plans/eye.yaml: 1.5 D with-the-rule
 # astigmatism) is meshed, cut with paired 60-degree limbal relaxing incisions at the steep
-# meridian (plans/lri-paired-60.yaml, 5 degrees of arc a step), solved step by step with the
-# augmented method while cutplan is still streaming its edits, and read like a topographer:
+# meridian (plans/lri-paired-60.yaml, 5 degrees of arc a step), solved step by step with
+# augsolve's planned method (the whole plan read from cutplan's pipe, one factorization of the
+# final cut mesh, every step exact by substitution), and read like a topographer:
 #   mesh-prep -> cutplan | augsolve -> curvature
 # It prints the pre-operative K, K at every step, flattening, steepening, coupling ratio and SIA
 # (curvature), and the per-step solve times (augsolve's steps.tsv); RUN_DIR (default run/demo)
-# keeps the mesh, the step VTKs, surface-NNNN.vtk and the axial power maps axial-NNNN.png.
+# keeps the mesh, the step VTKs, surface-NNNN.vtk, the axial power maps axial-NNNN.png, the
+# teaching page report.html and the ParaView time series steps.pvd.
 # It first installs what is missing (scripts/setup.sh) and builds (scripts/build.sh).
 # Environment: KT_BUILD, the build folder with the tools (default build); KT_NO_BUILD=1 skips
 # set-up and build (for tests that already built).
@@ -35,10 +37,10 @@ echo "== curvature"
 t3=$(now)
 echo "== timings"
 awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-    { printf "step %3d  %7s dofs  m %5s  GMRES %3s it  update+solve %8.1f ms\n", $c["step"],
+    { printf "step %3d  %7s dofs  m %5s  refinement %s  update+solve %8.1f ms\n", $c["step"],
       $c["n_dofs"], $c["m"], $c["iters"], $c["t_total_ms"]; s += $c["t_total_ms"]; n++ }
     END { if (n) printf "steps: %d, %.1f ms in all, %.1f ms per step\n", n, s, s / n }' "$RUN/steps.tsv"
 awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" 'BEGIN {
     printf "wall clock: mesh-prep %.1f s, cutplan|augsolve %.1f s, curvature %.1f s, total %.1f s\n",
            b - a, c - b, d - c, d - a }'
-echo "outputs in $RUN: curvature.tsv, meridians.tsv, steps.tsv, axial-NNNN.png, surface-NNNN.vtk"
+echo "outputs in $RUN: report.html (open it in a browser), steps.pvd (ParaView), curvature.tsv, meridians.tsv, steps.tsv, axial-NNNN.png, surface-NNNN.vtk"

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages keratome needs, when any is missing. Idempotent.
+# setup.sh [--test]: installs the Debian 12 packages keratome needs, when any is missing.
+# Idempotent. --test adds what only the tests use: Chromium (headless rendering of
+# report.html), python3-pil (reading its screenshot) and a font for it.
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libopenblas-dev
       libgmsh-dev gmsh libcgal-dev libcgal-demo libyaml-dev libpng-dev
@@ -7,6 +9,11 @@ pkgs=(build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libopenbl
       # planning studies (plans/studies): GNU parallel and a Slurm cluster (tests/study_slurm.sh
       # starts a single-node one: munge, slurmctld, slurmd, the sbatch client)
       parallel slurm-wlm munge)
+if [ "${1:-}" = --test ]; then
+  pkgs+=(chromium python3-pil fonts-dejavu-core)
+elif [ $# -gt 0 ]; then
+  echo "setup: unknown option $1 (usage: setup.sh [--test])" >&2; exit 2
+fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")

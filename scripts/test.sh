@@ -3,7 +3,7 @@
 # tests, then the unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+bash scripts/setup.sh --test
 bash scripts/build.sh build
 (cd build && ctest --output-on-failure -j2)
 # The sanitizer build leaves out CGAL (its one translation unit takes minutes and GBs to build).

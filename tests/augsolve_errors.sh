@@ -71,12 +71,34 @@ check "truncated stream" 2 "found the end of the stream" "$T/r4" -- "$B/augsolve
 { printf 'keratome-edits 1\nscene %s\nmesh x.msh 5 5\n' "$S"; } >"$T/e5"
 check "edits for another mesh" 2 "expected the $NN nodes" "$T/r5" -- "$B/augsolve" "$T/beam.msh" "$T/e5" -o "$T/r5" -q
 { hdr; printf 'step 1\ndup 1 %d 1 %d\nend\n' $((NN + 1)) "$NE"; } >"$T/e6"
-check "tet without that node" 2 "does not hold that node" "$T/r6" -- "$B/augsolve" "$T/beam.msh" "$T/e6" -o "$T/r6" -q
+check "tet without that node" 2 "e6:5:[0-9]*: expected tets that hold node 1 (.*does not hold that node" "$T/r6" -- "$B/augsolve" "$T/beam.msh" "$T/e6" -o "$T/r6" -q
 { printf 'keratome-edits 1\nmesh %s %s %s\n' "$T/beam.msh" "$NN" "$NE"; } >"$T/e7"
 check "no scene" 2 "names no scene" "$T/r7" -- "$B/augsolve" "$T/beam.msh" "$T/e7" -o "$T/r7" -q
 check "bad option" 2 "bad --method" "$T/r8" -- "$B/augsolve" "$T/beam.msh" "$T/e7" -o "$T/r8" --method lu
 
 # Numerical failure: GMRES held to 1 iteration at an unreachable tolerance: exit 1.
-check "GMRES misses --tol" 1 "GMRES did not reach" "$T/r9" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r9" --maxit 1 --tol 1e-15 --precond none -q
-check "--verify-tol exceeded" 1 "differ by" "$T/r10" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r10" --tol 1e-3 --verify --verify-tol 1e-15 -q
+check "GMRES misses --tol" 1 "GMRES did not reach" "$T/r9" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r9" --method augmented --maxit 1 --tol 1e-15 --precond none -q
+check "--verify-tol exceeded" 1 "differ by" "$T/r10" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r10" --method augmented --tol 1e-3 --verify --verify-tol 1e-15 -q
+
+# The planned method (default) checks the whole stream before it factors: a bad tet in the
+# last step is reported with its line, nothing is written.
+{ sed '/^end/q' "$T/cut.edits"; printf 'step 2\ndup 1 %d 1 %d\nend\n' "$(grep -c '^dup' <(sed '/^end/q' "$T/cut.edits") | awk -v n="$NN" '{print n + $1 + 1}')" "$NE"; } >"$T/e11"
+line=$(grep -n '^dup 1 ' "$T/e11" | tail -1 | cut -d: -f1)
+check "planned: bad tet in step 2 found before factoring" 2 "e11:$line:[0-9]*: expected tets that hold node 1" "$T/r11" -- "$B/augsolve" "$T/beam.msh" "$T/e11" -o "$T/r11" -q
+grep -q "planned: .* factor" "$T/err" && { echo "FAIL planned: factored before the check"; fail=1; }
+check "planned: bad --steps" 2 "expected steps in 0" "$T/r12" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r12" --steps 1,99 -q
+
+# A fix edit changes the intact block: the planned method falls back loudly, verified.
+{ cat "$T/cut.edits"; printf 'step %d\nfix 1 x 0.001\nend\n' $((steps + 1)); } >"$T/e13"
+check "planned: fix edit falls back to augmented" 0 "e13:[0-9]*: step $((steps + 1)) fixes node 1.*falling back to --method augmented" "$T/r13" -- "$B/augsolve" "$T/beam.msh" "$T/e13" -o "$T/r13" --verify --no-vtk -q
+grep -q '^method: augmented' "$T/r13/run.yaml" && grep -q '^fallback: ' "$T/r13/run.yaml" ||
+    { echo "FAIL fallback not recorded in run.yaml"; fail=1; }
+
+# --steps: only the listed steps are written, each as in the full run (one factorization).
+check "planned: --steps" 0 "" "$T/r14" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r14" --steps 2,4-5 -q
+[ "$(cut -f1 "$T/r14/steps.tsv" | tr '\n' ' ')" = "step 0 2 4 5 " ] || { echo "FAIL --steps rows: $(cut -f1 "$T/r14/steps.tsv" | tr '\n' ' ')"; fail=1; }
+for k in 0002 0004 0005; do
+    cmp -s "$T/r14/step-$k.vtk" "$T/ok/step-$k.vtk" || { echo "FAIL --steps: step-$k.vtk differs from the full run"; fail=1; }
+done
+[ -e "$T/r14/step-0003.vtk" ] && { echo "FAIL --steps wrote step 3"; fail=1; }
 exit $fail

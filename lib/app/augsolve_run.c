@@ -10,8 +10,10 @@
 #include "augsolve_run.h"
 
 #include "aug.h"
+#include "aug_plan.h"
 #include "bind.h"
 #include "msh.h"
+#include "physics.h"
 #include "scene.h"
 #include "vtk.h"
 
@@ -20,23 +22,42 @@ typedef struct run {
     kt_mesh mesh;
     kt_scene scene;
     kt_fem_problem fem;
+    kt_physics phys;            /* per-tet physics; fem.mats.td points into it */
     kt_aug_problem prob;
     FILE *edits;
     kt_edits_reader rd;
     kt_step step;
     kt_aug *aug;
+    kt_plan plan;               /* the whole stream when it was read to its end */
+    int plan_read, next;        /* steps come from plan.step[next] */
+    kt_mesh final;              /* the planned method's final cut mesh */
+    kt_plan_factor F;
+    kt_plan_state S;
+    unsigned char *want;        /* nsteps+1: steps to write (planned: to solve) */
+    unsigned char *outmask;     /* nodes of the --output surface (planned), NULL: all */
+    double *ufresh;
+    const char *fallback;       /* why the planned method did not apply */
     kt_out tsv;
     int tsv_open;
     char scene_path[PATH_MAX];
+    int quiet;
 } run;
 
 static void run_free(run *r)
 {
     kt_aug_free(r->aug);
     kt_step_free(&r->step);
+    kt_plan_state_free(&r->S);
+    kt_plan_factor_free(&r->F);
+    kt_mesh_free(&r->final);
+    kt_plan_free(&r->plan);
+    free(r->want);
+    free(r->outmask);
+    free(r->ufresh);
     if (r->edits && r->edits != stdin) fclose(r->edits);
     if (r->tsv_open) kt_out_abort(&r->tsv);
     kt_fem_problem_free(&r->fem);
+    kt_physics_free(&r->phys);
     kt_mesh_free(&r->mesh);
 }
 
@@ -60,6 +81,25 @@ static int open_edits(run *r, const char *path, kt_err *e)
     return KT_OK;
 }
 
+/* Fibre matrices and, for a prestressed scene, the prestress of the measured geometry (one
+ * direct solve); its steps are then increments from the loaded state, so the prescribed values
+ * (already in the prestress) become zero. */
+static int build_physics(run *r, kt_err *e)
+{
+    cholmod_common c;
+    cholmod_start(&c);
+    int rc = kt_physics_build(&r->scene, &r->mesh, &r->fem, &r->phys, &c, e);
+    cholmod_finish(&c);
+    if (rc) return rc;
+    if (r->phys.prestressed) {
+        memset(r->fem.g, 0, 3 * (size_t)r->mesh.nn * sizeof(double));
+        for (int k = 0; k < r->fem.nfix; k++) memset(r->fem.fix[k].v, 0, sizeof r->fem.fix[k].v);
+        kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
+               "apex membrane stress %.4g kPa\n", r->phys.t_build, 1000 * r->phys.sig_apex);
+    }
+    return KT_OK;
+}
+
 /* Materials, fixation and pressures of the scene on this mesh. */
 static int load_problem(run *r, const char *scene, kt_err *e)
 {
@@ -69,32 +109,45 @@ static int load_problem(run *r, const char *scene, kt_err *e)
     abs_path(scene, r->scene_path, sizeof r->scene_path);
     if (kt_scene_load(scene, &r->scene, e) || kt_fem_bind(&r->scene, &r->mesh, &r->fem, e))
         return e->code;
+    if (build_physics(r, e)) return e->code;
     r->prob = (kt_aug_problem){&r->mesh, &r->fem.mats, r->fem.fixed, r->fem.g, r->fem.npress,
                                r->fem.press, r->fem.nfix, r->fem.fix};
     return KT_OK;
 }
 
-static int write_vtk(run *r, const kt_aug_run_opts *o, kt_err *e)
+/* What a step writes: the cut mesh, its displacement, origins and reactions (NULL: none). */
+typedef struct view {
+    const kt_mesh *mesh;
+    int step;
+    const double *u, *react;
+    const int *origin;
+    const kt_aug_row *row;
+} view;
+
+static int write_vtk(const kt_aug_run_opts *o, const view *v, kt_err *e)
 {
     if (!o->vtk) return KT_OK;
-    const kt_mesh *m = kt_aug_mesh(r->aug);
+    const kt_mesh *m = v->mesh;
     char path[PATH_MAX];
-    snprintf(path, sizeof path, "%s/step-%04d.vtk", o->run_dir, kt_aug_last(r->aug)->step);
+    snprintf(path, sizeof path, "%s/step-%04d.vtk", o->run_dir, v->step);
     double *origin = kt_calloc((size_t)m->nn, sizeof(double), e);
     if (!origin) return e->code;
-    const int *org = kt_aug_origin(r->aug);
-    for (int i = 0; i < m->nn; i++) origin[i] = org[i] + 1;
-    kt_vtk_field f[3] = {{"displacement", 3, 0, 0, (double *)kt_aug_displacement(r->aug)},
+    for (int i = 0; i < m->nn; i++) origin[i] = v->origin[i] + 1;
+    kt_vtk_field f[3] = {{"displacement", 3, 0, 0, (double *)v->u},
                          {"origin", 1, 0, 1, origin},
-                         {"reaction", 3, 0, 0, NULL}};
-    int nf = 2;
-    if (!o->aug.output[0]) { /* reactions need u around the supports */
-        f[2].v = (double *)kt_aug_reaction(r->aug, e);
-        nf = f[2].v ? 3 : 2;
-    }
-    if (!e->code) kt_vtk_write_tets(path, m, f, nf, o->binary, e);
+                         {"reaction", 3, 0, 0, (double *)v->react}};
+    kt_vtk_write_tets(path, m, f, v->react ? 3 : 2, o->binary, e);
     free(origin);
     return e->code;
+}
+
+/* The iterative methods' step as a view; reactions need u around the supports. */
+static int aug_view(run *r, const kt_aug_run_opts *o, view *v, kt_err *e)
+{
+    *v = (view){kt_aug_mesh(r->aug), kt_aug_last(r->aug)->step, kt_aug_displacement(r->aug),
+                NULL, kt_aug_origin(r->aug), kt_aug_last(r->aug)};
+    if (o->vtk && !o->aug.output[0] && !(v->react = kt_aug_reaction(r->aug, e))) return e->code;
+    return KT_OK;
 }
 
 static void tsv_num(FILE *f, double v, const char *fmt)
@@ -103,10 +156,9 @@ static void tsv_num(FILE *f, double v, const char *fmt)
     else fprintf(f, fmt, v);
 }
 
-static void write_row(run *r)
+static void write_row(run *r, const kt_aug_row *w)
 {
     FILE *f = r->tsv.f;
-    const kt_aug_row *w = kt_aug_last(r->aug);
     fprintf(f, "%d\t%d\t%d\t%d\t%d\t%d", w->step, w->n_dofs, w->m, w->new_dofs, w->iters,
             w->closure_max);
     double t[5] = {w->t_update, w->t_step1, w->t_step2, w->t_step3, w->t_total};
@@ -118,13 +170,14 @@ static void write_row(run *r)
     tsv_num(f, w->rel_residual, "%.3e");
     fprintf(f, "\t%s\t", w->refactor);
     tsv_num(f, w->verify_rel_diff, "%.3e");
-    fprintf(f, "\t%.0f\n", w->nnz_L);
+    fprintf(f, "\t%.0f\t", w->nnz_L);
+    tsv_num(f, w->t_verify, "%.1f");
+    fputc('\n', f);
 }
 
-static void progress(const run *r, int quiet)
+static void progress(const kt_aug_row *w, int quiet)
 {
     if (quiet) return;
-    const kt_aug_row *w = kt_aug_last(r->aug);
     int tty = isatty(STDERR_FILENO);
     if (!tty && w->step % 10 != 0 && strcmp(w->refactor, "-") == 0) return;
     fprintf(stderr, "%saugsolve: step %d: %d DOFs, m %d, %d iterations, %.2f ms%s%s%s", tty ? "\r" : "",
@@ -167,6 +220,8 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
             PRE[o->aug.precond], ORD[o->aug.ordering],
             o->aug.factor == KT_AUG_FACTOR_SIMPLICIAL ? "simplicial" : "supernodal");
     if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
+    if (r->fallback) yaml_str(out.f, "fallback", r->fallback);
+    if (o->steps) yaml_str(out.f, "written_steps", o->steps);
     return kt_out_commit(&out, e);
 }
 
@@ -177,35 +232,221 @@ static int open_tsv(run *r, const kt_aug_run_opts *o, kt_err *e)
     if (kt_out_open(&r->tsv, path, e)) return e->code;
     r->tsv_open = 1;
     fputs("step\tn_dofs\tm\tnew_dofs\titers\tclosure_max\tt_update_ms\tt_step1_ms\tt_step2_ms\t"
-          "t_step3_ms\tt_total_ms\trel_residual\trefactor\tverify_rel_diff\tnnz_L\n", r->tsv.f);
+          "t_step3_ms\tt_total_ms\trel_residual\trefactor\tverify_rel_diff\tnnz_L\tt_verify_ms\n", r->tsv.f);
     return KT_OK;
 }
 
-int kt_aug_run(const kt_aug_run_opts *o, kt_err *e)
+void kt_aug_run_opts_default(kt_aug_run_opts *o)
 {
+    memset(o, 0, sizeof *o);
+    o->vtk = 1;
+    kt_aug_opts_default(&o->aug);
+    o->aug.method = KT_AUG_PLANNED;
+    o->aug.ordering = KT_AUG_ORDER_DEFAULT;
+}
+
+/* "1,4,7-9" -> want[k] for k in 1..nsteps; step 0 is always written. */
+static int parse_steps(run *r, const char *list, int nsteps, kt_err *e)
+{
+    r->want = kt_calloc((size_t)nsteps + 1, 1, e);
+    if (!r->want) return e->code;
+    r->want[0] = 1;
+    if (!list) {
+        memset(r->want, 1, (size_t)nsteps + 1);
+        return KT_OK;
+    }
+    const char *p = list;
+    while (*p) {
+        char *end;
+        long a = strtol(p, &end, 10), b = a;
+        if (end == p) break;
+        p = end;
+        if (*p == '-') {
+            b = strtol(p + 1, &end, 10);
+            if (end == p + 1) break;
+            p = end;
+        }
+        if (a < 0 || b < a || b > nsteps)
+            return kt_fail(e, KT_EINPUT, "--steps %s: expected steps in 0..%d, found %ld-%ld", list,
+                           nsteps, a, b);
+        for (long k = a; k <= b; k++) r->want[k] = 1;
+        if (*p == ',') p++;
+        else if (*p) break;
+    }
+    if (*p || !*list)
+        return kt_fail(e, KT_EINPUT, "--steps %s: expected a list like 1,4,7-9", list);
+    return KT_OK;
+}
+
+static int next_step(run *r, kt_err *e)
+{
+    if (!r->plan_read) return kt_edits_next(&r->rd, &r->step, e);
+    if (r->next == r->plan.nsteps) return 0;
+    kt_step_clear(&r->step);
+    const kt_step *s = &r->plan.step[r->next++];
+    r->step.index = s->index;
+    memcpy(r->step.label, s->label, sizeof r->step.label);
+    for (int i = 0; i < s->n; i++)
+        if (kt_step_add(&r->step, &s->edit[i], e)) return -1;
+    return 1;
+}
+
+/* The iterative methods and the baselines: each step solved as it arrives. */
+static int run_stream(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
+{
+    view v;
+    if (kt_aug_create(&r->aug, &r->prob, &o->aug, e) || aug_view(r, o, &v, e) ||
+        write_vtk(o, &v, e))
+        return e->code;
+    write_row(r, v.row);
+    progress(v.row, o->aug.quiet);
+    int rc;
+    while ((rc = next_step(r, e)) == 1) {
+        if (kt_aug_step(r->aug, &r->step, e)) return e->code;
+        (*steps)++;
+        if (r->want && (r->step.index > r->plan.nsteps || !r->want[r->step.index])) continue;
+        if (aug_view(r, o, &v, e) || write_vtk(o, &v, e)) return e->code;
+        write_row(r, v.row);
+        progress(v.row, o->aug.quiet);
+    }
+    return rc < 0 ? e->code : KT_OK;
+}
+
+/* Nodes of the --output surface on the current cut mesh. */
+static int output_nodes(run *r, const char *name, kt_err *e)
+{
+    const kt_mesh *m = &r->S.mesh;
+    const kt_group *g = kt_mesh_find_group(m, 2, name);
+    if (!g) return kt_fail(e, KT_EINPUT, "--output %s: expected a surface group of the mesh", name);
+    free(r->outmask);
+    if (!(r->outmask = kt_calloc((size_t)m->nn, 1, e))) return e->code;
+    int fv = kt_tri_nv(m->order);
+    for (int t = 0; t < m->nf; t++)
+        if (m->tri_tag[t] == g->tag)
+            for (int a = 0; a < fv; a++) r->outmask[m->tri[(size_t)t * fv + a]] = 1;
+    return KT_OK;
+}
+
+/* --verify: the step against a fresh factorization of the cut mesh, over the output nodes. */
+static int verify_planned(run *r, const kt_aug_run_opts *o, kt_err *e)
+{
+    double t, dmax = 0, rmax = 0;
+    if (kt_plan_fresh(&r->S, &r->plan, &r->prob, r->ufresh, &t, e)) return e->code;
+    for (int i = 0; i < 3 * r->S.mesh.nn; i++) {
+        if (r->outmask && !r->outmask[i / 3]) continue;
+        dmax = fmax(dmax, fabs(r->S.u[i] - r->ufresh[i]));
+        rmax = fmax(rmax, fabs(r->ufresh[i]));
+    }
+    r->S.row.verify_rel_diff = rmax > 0 ? dmax / rmax : dmax;
+    r->S.row.t_verify = 1e3 * t;
+    if (!(r->S.row.verify_rel_diff <= o->aug.verify_tol))
+        return kt_fail(e, KT_ERUN, "step %d: --verify: planned and a fresh factorization differ by "
+                       "%.3g (relative, max norm) > --verify-tol %.3g", r->S.step,
+                       r->S.row.verify_rel_diff, o->aug.verify_tol);
+    return KT_OK;
+}
+
+static int planned_step(run *r, const kt_aug_run_opts *o, kt_err *e)
+{
+    if (kt_plan_solve(&r->S, &r->plan, &r->F, &r->prob, o->aug.tol, e)) return e->code;
+    if (o->aug.output[0]) {
+        if (output_nodes(r, o->aug.output, e)) return e->code;
+        for (int i = 0; i < 3 * r->S.mesh.nn; i++)
+            if (!r->outmask[i / 3]) r->S.u[i] = NAN;
+    }
+    if (o->aug.verify && verify_planned(r, o, e)) return e->code;
+    view v = {&r->S.mesh, r->S.step, r->S.u, o->aug.output[0] ? NULL : r->S.react,
+              r->S.origin, &r->S.row};
+    if (write_vtk(o, &v, e)) return e->code;
+    write_row(r, v.row);
+    progress(v.row, o->aug.quiet);
+    return KT_OK;
+}
+
+/* --output SET: the back substitution limited to what the set's nodes on the final mesh need
+ * (they and their ancestors cover the set on every step's mesh). */
+static int restrict_output(run *r, const kt_aug_run_opts *o, kt_err *e)
+{
+    if (!o->aug.output[0]) return KT_OK;
+    const kt_mesh *m = &r->final;
+    const kt_group *g = kt_mesh_find_group(m, 2, o->aug.output);
+    if (!g) return kt_fail(e, KT_EINPUT, "--output %s: expected a surface group of the mesh",
+                           o->aug.output);
+    unsigned char *nodes = kt_calloc((size_t)m->nn, 1, e);
+    if (!nodes) return e->code;
+    int fv = kt_tri_nv(m->order);
+    for (int t = 0; t < m->nf; t++)
+        if (m->tri_tag[t] == g->tag)
+            for (int a = 0; a < fv; a++) nodes[m->tri[(size_t)t * fv + a]] = 1;
+    kt_plan_factor_restrict(&r->F, &r->plan, nodes, e);
+    free(nodes);
+    return e->code;
+}
+
+/* The planned method: the whole stream, checked, one factorization, then each wanted step.
+ * Returns KT_OK with r->fallback set when the plan does not allow it. */
+static int run_planned(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
+{
+    if (kt_plan_read(&r->plan, &r->rd, e)) return e->code;
+    r->plan_read = 1;
+    if (kt_plan_check(&r->plan, r->rd.name, &r->prob, &r->final, e) ||
+        parse_steps(r, o->steps, r->plan.nsteps, e))
+        return e->code;
+    if (!r->plan.usable) {
+        r->fallback = r->plan.why;
+        return KT_OK;
+    }
+    if (kt_plan_factor_build(&r->F, &r->plan, &r->final, &r->fem.mats, o->aug.ordering, o->aug.factor,
+                             e) ||
+        kt_plan_state_init(&r->S, &r->plan, &r->prob, e) || restrict_output(r, o, e))
+        return e->code;
+    kt_mesh_free(&r->final);
+    if (o->aug.verify && !(r->ufresh = kt_calloc(3 * (size_t)r->plan.nn, sizeof(double), e)))
+        return e->code;
+    kt_log(o->aug.quiet, "augsolve: planned: %d steps, %d free DOFs + %d increments, factor %.0f "
+           "nonzeros in %.2f s (assembly %.2f s, ordering %.2f s)\n", r->plan.nsteps, r->F.nK,
+           r->F.nfree - r->F.nK, r->F.nnzL, r->F.t_factor, r->F.t_assemble, r->F.t_order);
+    if (planned_step(r, o, e)) return e->code;
+    for (int k = 1; k <= r->plan.nsteps; k++) {
+        if (kt_plan_advance(&r->S, &r->plan, e)) return e->code;
+        (*steps)++;
+        if (r->want[k] && planned_step(r, o, e)) return e->code;
+    }
+    return KT_OK;
+}
+
+int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
+{
+    kt_aug_run_opts o = *o_in;
+    if (o.aug.ordering == KT_AUG_ORDER_DEFAULT)
+        o.aug.ordering = o.aug.method == KT_AUG_PLANNED ? KT_AUG_ORDER_METIS : KT_AUG_ORDER_NATURAL;
     run *r = kt_calloc(1, sizeof *r, e);
     if (!r) return e->code;
     int steps = 0;
-    if (kt_msh_read(o->mesh, &r->mesh, e) || open_edits(r, o->edits, e) ||
-        load_problem(r, o->scene ? o->scene : r->rd.h.scene, e) || kt_mkdir_p(o->run_dir, e) ||
-        open_tsv(r, o, e))
+    r->quiet = o.aug.quiet;
+    if (kt_msh_read(o.mesh, &r->mesh, e) || open_edits(r, o.edits, e) ||
+        load_problem(r, o.scene ? o.scene : r->rd.h.scene, e) || kt_mkdir_p(o.run_dir, e) ||
+        open_tsv(r, &o, e))
         goto done;
-    if (kt_aug_create(&r->aug, &r->prob, &o->aug, e) || write_vtk(r, o, e)) goto done;
-    write_row(r);
-    progress(r, o->aug.quiet);
-    int rc;
-    while ((rc = kt_edits_next(&r->rd, &r->step, e)) == 1) {
-        if (kt_aug_step(r->aug, &r->step, e) || write_vtk(r, o, e)) goto done;
-        write_row(r);
-        progress(r, o->aug.quiet);
-        steps++;
+    if (o.aug.method == KT_AUG_PLANNED) {
+        if (run_planned(r, &o, &steps, e)) goto done;
+        if (r->fallback) {
+            fprintf(stderr, "augsolve: the planned method does not apply (%s): falling back to "
+                    "--method augmented\n", r->fallback);
+            o.aug.method = KT_AUG_AUGMENTED;
+            o.aug.ordering = KT_AUG_ORDER_NATURAL;
+        }
+    } else if (o.steps) {
+        if (kt_plan_read(&r->plan, &r->rd, e) || parse_steps(r, o.steps, r->plan.nsteps, e))
+            goto done;
+        r->plan_read = 1;
     }
-    if (rc < 0) goto done;
+    if (o.aug.method != KT_AUG_PLANNED && run_stream(r, &o, &steps, e)) goto done;
     if (kt_out_commit(&r->tsv, e)) goto done;
     r->tsv_open = 0;
-    write_run_yaml(r, o, steps, e);
-    if (!e->code && !o->aug.quiet && isatty(STDERR_FILENO)) fputc('\n', stderr);
-    kt_log(o->aug.quiet || e->code, "augsolve: %d steps written to %s\n", steps, o->run_dir);
+    write_run_yaml(r, &o, steps, e);
+    if (!e->code && !o.aug.quiet && isatty(STDERR_FILENO)) fputc('\n', stderr);
+    kt_log(o.aug.quiet || e->code, "augsolve: %d steps written to %s\n", steps, o.run_dir);
 done:
     run_free(r);
     free(r);

@@ -9,8 +9,13 @@ typedef struct kt_aug_run_opts {
     const char *mesh, *edits, *run_dir;
     const char *scene;        /* NULL: the scene the edits header names */
     int vtk, binary;          /* write step VTKs (binary legacy format) */
+    const char *steps;        /* NULL: write every step; else a list "1,4,7-9" (step 0 always) */
     kt_aug_opts aug;
 } kt_aug_run_opts;
+
+/* The tool's defaults: kt_aug_opts_default with the planned method and its default ordering
+ * (aug_plan.h), step VTKs written. */
+void kt_aug_run_opts_default(kt_aug_run_opts *o);
 
 int kt_aug_run(const kt_aug_run_opts *o, kt_err *e);
 

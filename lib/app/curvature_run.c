@@ -13,6 +13,8 @@
 #include "curvature_run.h"
 
 #include "curv.h"
+#include "curv_report.h"
+#include "curv_total.h"
 #include "msh.h"
 #include "plan.h"
 #include "axialmap.h"
@@ -26,6 +28,10 @@ typedef struct step_res {
     kt_kerato k;
     double map_radius;   /* radius of the map fit, mm */
     double bfs_radius;   /* best-fit sphere over the map disk, mm */
+    kt_fit map;          /* the map fit */
+    kt_fit post;         /* posterior zone fit (has_post) */
+    int has_post;
+    kt_total tot;        /* posterior and total corneal power (NaN without a posterior surface) */
 } step_res;
 
 typedef struct run_ctx {
@@ -36,8 +42,14 @@ typedef struct run_ctx {
     int nstep;
     char **vtk;          /* nstep step files, step 0 first */
     unsigned char *mask; /* anterior nodes of the input mesh */
-    int mesh_nn;
-    kt_topo_scale scale;
+    unsigned char *post_mask; /* posterior corneal nodes (NULL: none) */
+    int mesh_nn, mesh_ne, mesh_order;
+    kt_topo_scale scale, diff_scale;
+    kt_cornea_n n;
+    kt_plan *plan_in;    /* the plan read (NULL: no plan) */
+    double *u0;          /* step 0's displacement by input node (for the report's section) */
+    kt_section section;
+    double t0;           /* start, kt_now() */
     double meridian;     /* incised meridian, deg (NaN: not known yet) */
     const char *meridian_src;
     int has_target;
@@ -56,7 +68,7 @@ void kt_curv_opts_default(kt_curv_opts *o)
     o->order = 6;
     o->map_order = 8;
     o->meridian = NAN;
-    o->png = o->vtk_out = 1;
+    o->png = o->vtk_out = o->report = 1;
 }
 
 static int join(char *dst, const char *dir, const char *name, kt_err *e)
@@ -200,7 +212,7 @@ static int list_steps(run_ctx *c, int declared, kt_err *e)
  * magnitude on the orthogonal meridian, the change that cancels it. */
 static int read_plan(run_ctx *c, kt_err *e)
 {
-    kt_plan *p = kt_calloc(1, sizeof(kt_plan), e);
+    kt_plan *p = c->plan_in = kt_calloc(1, sizeof(kt_plan), e);
     if (!p) return e->code;
     int rc = kt_plan_load(c->plan, p, e);
     if (rc == KT_OK) {
@@ -214,7 +226,6 @@ static int read_plan(run_ctx *c, kt_err *e)
             c->tia.axis = fmod(p->target.axis + 90, 180);
         }
     }
-    free(p);
     return rc;
 }
 
@@ -330,6 +341,38 @@ static int write_map_png(run_ctx *c, int step, const kt_fit *map, const step_res
 
 /* ---------------------------------------------------------------- one step */
 
+/* The posterior corneal surface's zone fit, when the mesh has one (curv_total.h). */
+static int posterior(run_ctx *c, int step, const kt_vtk *v, kt_err *e)
+{
+    step_res *r = c->res + step;
+    kt_curv_total_none(&r->tot);
+    if (!c->post_mask) return KT_OK;
+    kt_surf p;
+    int rc = kt_curv_extract(v, c->vtk[step], c->post_mask, c->mesh_nn, &p, e);
+    if (rc == KT_OK) {
+        rc = kt_curv_fit(p.xyz, p.n, KT_FIT_TORIC, c->o->order, c->o->zone, 0, 0, &r->post, NULL, 0, e);
+        kt_surf_free(&p);
+    }
+    if (rc == KT_OK) r->has_post = 1;
+    return rc;
+}
+
+/* What the report needs from the step meshes: step 0's displacement by input node, and the
+ * section through the first incision of the last step. */
+static int report_inputs(run_ctx *c, int step, const kt_vtk *v, kt_err *e)
+{
+    const kt_vtk_field *u = kt_vtk_find(v, "displacement", 0), *org = kt_vtk_find(v, "origin", 0);
+    if (!u || !org) return KT_OK; /* kt_curv_extract has reported it */
+    if (step == 0) {
+        if (!(c->u0 = kt_calloc((size_t)3 * c->mesh_nn, sizeof(double), e))) return e->code;
+        for (int i = 0; i < v->nn; i++)
+            memcpy(c->u0 + 3 * ((int)org->v[i] - 1), u->v + 3 * i, 3 * sizeof(double));
+    }
+    if (step != c->nstep - 1 || step == 0 || !c->plan_in || c->plan_in->ninc < 1) return KT_OK;
+    const kt_incision *in = c->plan_in->inc;
+    return kt_curv_section(v, c->u0, c->mesh_nn, in->meridian, 0.5 * in->diameter, 1.2, &c->section, e);
+}
+
 static int do_step(run_ctx *c, int step, kt_err *e)
 {
     const kt_curv_opts *o = c->o;
@@ -339,8 +382,13 @@ static int do_step(run_ctx *c, int step, kt_err *e)
     if (kt_vtk_read(c->vtk[step], &v, e) != KT_OK) return e->code;
     kt_surf s;
     int rc = kt_curv_extract(&v, c->vtk[step], c->mask, c->mesh_nn, &s, e);
+    if (rc == KT_OK) rc = posterior(c, step, &v, e);
+    if (rc == KT_OK && o->report) rc = report_inputs(c, step, &v, e);
     kt_vtk_free(&v);
-    if (rc != KT_OK) return rc;
+    if (rc != KT_OK) {
+        if (s.xyz) kt_surf_free(&s);
+        return rc;
+    }
     char note[256];
     kt_fit *map = kt_calloc(1, sizeof(kt_fit), e);
     double *pts = kt_calloc((size_t)3 * s.n, sizeof(double), e);
@@ -363,6 +411,8 @@ static int do_step(run_ctx *c, int step, kt_err *e)
     }
     if (rc == KT_OK && o->vtk_out) rc = write_surface_vtk(c, step, &s, map, bfs_c, r->bfs_radius, r->map_radius, e);
     if (rc == KT_OK && o->png) rc = write_map_png(c, step, map, r, e);
+    if (rc == KT_OK) r->map = *map;
+    if (rc == KT_OK && r->has_post) kt_curv_total(&r->fit, &r->post, &c->n, &r->tot);
     free(map), free(pts);
     kt_surf_free(&s);
     return rc;
@@ -404,7 +454,9 @@ static int write_tables(run_ctx *c, kt_err *e)
     fputs("step\tk_steep_D\tk_flat_D\taxis_steep_deg\tcyl_D\tk_mean_D\tdk_mean_D\tincised_deg"
           "\tk_incised_D\tk_ortho_D\tflattening_D\tsteepening_D\tcoupling_ratio\tsia_D\tsia_axis_deg"
           "\ttia_D\ttia_axis_deg\tdv_D\tdv_axis_deg\tcorrection_index\tangle_error_deg"
-          "\tapex_x_mm\tapex_y_mm\tapex_z_mm\tfit_rms_um\tzone_points\tfit_order\n", f);
+          "\tapex_x_mm\tapex_y_mm\tapex_z_mm\tfit_rms_um\tzone_points\tfit_order"
+          "\tpost_k_steep_D\tpost_k_flat_D\tpost_axis_deg\tpost_cyl_D\tthickness_mm"
+          "\ttotal_k_steep_D\ttotal_k_flat_D\ttotal_axis_deg\ttotal_cyl_D\n", f);
     for (int i = 0; i < c->nstep; i++) {
         const step_res *r = c->res + i;
         step_cmp d;
@@ -419,7 +471,15 @@ static int write_tables(run_ctx *c, kt_err *e)
             fputc('\t', f);
             put(f, row[k], k >= 20 && k <= 22 ? "%.6f" : "%.4f");
         }
-        fprintf(f, "\t%d\t%d\n", r->fit.npts, r->fit.kind == KT_FIT_ZERNIKE ? r->fit.order : 0);
+        fprintf(f, "\t%d\t%d", r->fit.npts, r->fit.kind == KT_FIT_ZERNIKE ? r->fit.order : 0);
+        const kt_total *t = &r->tot;
+        double tot[] = {t->post_steep, t->post_flat, axis_out(t->post_axis, 4), t->post_cyl, t->thickness,
+                        t->tot_steep, t->tot_flat, axis_out(t->tot_axis, 4), t->tot_cyl};
+        for (size_t k = 0; k < sizeof tot / sizeof tot[0]; k++) {
+            fputc('\t', f);
+            put(f, tot[k], k == 4 ? "%.6f" : "%.4f");
+        }
+        fputc('\n', f);
     }
     if (kt_out_commit(&out, e) || add_file(c, "curvature.tsv", e)) return e->code;
 
@@ -463,6 +523,13 @@ static void summary(const run_ctx *c, FILE *f)
                 axis_out(r->k.axis_steep, 1), r->k.k_flat, r->k.cyl, d.dk_mean, d.flat, d.steep, cr,
                 d.va.sia.mag, axis_out(d.va.sia.axis, 1));
     }
+    const step_res *rl = c->res + c->nstep - 1;
+    if (r0->has_post)
+        fprintf(f, "posterior K %.2f D @ %.0f / %.2f D (n %.3f -> %.3f), total corneal power %.2f D @ %.0f / %.2f D, "
+                   "cylinder %.2f D (thick lens, %.3f mm); last step: %.2f D @ %.0f / %.2f D, cylinder %.2f D\n",
+                r0->tot.post_steep, axis_out(r0->tot.post_axis, 0), r0->tot.post_flat, c->n.cornea, c->n.aqueous,
+                r0->tot.tot_steep, axis_out(r0->tot.tot_axis, 0), r0->tot.tot_flat, r0->tot.tot_cyl, r0->tot.thickness,
+                rl->tot.tot_steep, axis_out(rl->tot.tot_axis, 0), rl->tot.tot_flat, rl->tot.tot_cyl);
     if (c->has_target && c->nstep > 1) {
         step_cmp d;
         compare(c, c->nstep - 1, &d);
@@ -471,6 +538,195 @@ static void summary(const run_ctx *c, FILE *f)
                 c->tia.mag, axis_out(c->tia.axis + 90, 0), c->tia.mag, axis_out(c->tia.axis, 0), c->nstep - 1,
                 d.va.sia.mag, axis_out(d.va.sia.axis, 1), d.va.ci, d.va.ae, d.va.dv.mag, axis_out(d.va.dv.axis, 1));
     }
+}
+
+/* ---------------------------------------------------------------- JSON, ParaView, report */
+
+/* Degrees of arc opened per incision at step i (the plan's first incision), NaN without one. */
+static double arc_of(const run_ctx *c, int i)
+{
+    if (!c->plan_in || c->plan_in->ninc < 1 || !(c->plan_in->inc[0].prog.degrees_per_step > 0)) return NAN;
+    return fmin(i * c->plan_in->inc[0].prog.degrees_per_step, c->plan_in->inc[0].arc);
+}
+
+static void jnum(FILE *f, const char *key, double v, int last)
+{
+    fprintf(f, "\"%s\": ", key);
+    if (isfinite(v)) fprintf(f, "%.6g", v);
+    else fputs("null", f);
+    fputs(last ? "" : ", ", f);
+}
+
+static void jstr(FILE *f, const char *key, const char *v)
+{
+    fprintf(f, "\"%s\": \"", key);
+    for (; *v; v++) {
+        if (*v == '"' || *v == '\\') fprintf(f, "\\%c", *v);
+        else if ((unsigned char)*v < 0x20) fprintf(f, "\\u%04x", *v);
+        else fputc(*v, f);
+    }
+    fputs("\", ", f);
+}
+
+/* The summary as one JSON object: settings, then one object per step. */
+static void summary_json(const run_ctx *c, FILE *f)
+{
+    fputs("{", f);
+    jstr(f, "keratome", KT_VERSION);
+    jstr(f, "fit", c->o->fit == KT_FIT_ZERNIKE ? "zernike" : "toric");
+    jnum(f, "zone_mm", c->o->zone, 0);
+    jnum(f, "incised_deg", axis_out(c->meridian, 4), 0);
+    jstr(f, "incised_from", c->meridian_src);
+    jnum(f, "n_cornea", c->n.cornea, 0);
+    jnum(f, "n_aqueous", c->n.aqueous, 0);
+    fputs("\"target\": ", f);
+    if (c->has_target) {
+        fputs("{", f);
+        jnum(f, "tia_D", c->tia.mag, 0);
+        jnum(f, "tia_axis_deg", axis_out(c->tia.axis, 4), 1);
+        fputs("}, ", f);
+    } else {
+        fputs("null, ", f);
+    }
+    fputs("\"steps\": [", f);
+    for (int i = 0; i < c->nstep; i++) {
+        const step_res *r = c->res + i;
+        step_cmp d;
+        compare(c, i, &d);
+        fprintf(f, "%s\n  {\"step\": %d, ", i ? "," : "", i);
+        jnum(f, "arc_deg", arc_of(c, i), 0);
+        jnum(f, "k_steep_D", r->k.k_steep, 0);
+        jnum(f, "k_flat_D", r->k.k_flat, 0);
+        jnum(f, "axis_steep_deg", axis_out(r->k.axis_steep, 4), 0);
+        jnum(f, "cyl_D", r->k.cyl, 0);
+        jnum(f, "k_mean_D", r->k.k_mean, 0);
+        jnum(f, "flattening_D", d.flat, 0);
+        jnum(f, "steepening_D", d.steep, 0);
+        jnum(f, "coupling_ratio", d.coupling, 0);
+        jnum(f, "sia_D", d.va.sia.mag, 0);
+        jnum(f, "sia_axis_deg", axis_out(d.va.sia.axis, 4), 0);
+        jnum(f, "dv_D", d.va.dv.mag, 0);
+        jnum(f, "correction_index", d.va.ci, 0);
+        jnum(f, "angle_error_deg", d.va.ae, 0);
+        jnum(f, "index_of_success", d.va.ios, 0);
+        jnum(f, "post_k_steep_D", r->tot.post_steep, 0);
+        jnum(f, "post_k_flat_D", r->tot.post_flat, 0);
+        jnum(f, "post_axis_deg", axis_out(r->tot.post_axis, 4), 0);
+        jnum(f, "thickness_mm", r->tot.thickness, 0);
+        jnum(f, "total_k_steep_D", r->tot.tot_steep, 0);
+        jnum(f, "total_k_flat_D", r->tot.tot_flat, 0);
+        jnum(f, "total_axis_deg", axis_out(r->tot.tot_axis, 4), 0);
+        jnum(f, "total_cyl_D", r->tot.tot_cyl, 1);
+        fputs("}", f);
+    }
+    fputs("\n]}\n", f);
+}
+
+/* steps.pvd: the step VTKs as one ParaView time series (time: degrees of arc opened per
+ * incision when the plan cuts arcs, else the step number). File names are relative when the
+ * collection sits beside them, absolute otherwise. */
+static int write_pvd(run_ctx *c, kt_err *e)
+{
+    char path[PATHMAX], a[PATHMAX], b[PATHMAX];
+    int beside = realpath(c->o->run_dir, a) && realpath(c->outdir, b) && strcmp(a, b) == 0;
+    int by_arc = c->nstep > 1 && isfinite(arc_of(c, 1));
+    for (int i = 1; by_arc && i < c->nstep; i++) by_arc = arc_of(c, i) > arc_of(c, i - 1);
+    kt_out out;
+    if (tmp_path(c, path, "steps.pvd", e) || kt_out_open(&out, path, e)) return e->code;
+    FILE *f = out.f;
+    fprintf(f, "<?xml version=\"1.0\"?>\n<!-- keratome %s: the step meshes of this run; timestep = %s -->\n"
+               "<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n",
+            KT_VERSION, by_arc ? "degrees of arc opened per incision" : "step number");
+    for (int i = 0; i < c->nstep; i++) {
+        const char *name = strrchr(c->vtk[i], '/') ? strrchr(c->vtk[i], '/') + 1 : c->vtk[i];
+        if (!beside && !realpath(c->vtk[i], a)) {
+            kt_out_abort(&out);
+            return kt_fail(e, KT_ERUN, "%s: cannot resolve the path", c->vtk[i]);
+        }
+        fprintf(f, "    <DataSet timestep=\"%g\" part=\"0\" file=\"", by_arc ? arc_of(c, i) : i);
+        for (const char *q = beside ? name : a; *q; q++) {
+            if (*q == '&') fputs("&amp;", f);
+            else if (*q == '"') fputs("&quot;", f);
+            else if (*q == '<') fputs("&lt;", f);
+            else fputc(*q, f);
+        }
+        fputs("\"/>\n", f);
+    }
+    fputs("  </Collection>\n</VTKFile>\n", f);
+    if (kt_out_commit(&out, e) || add_file(c, "steps.pvd", e)) return e->code;
+    return KT_OK;
+}
+
+/* A whole small file as a string (NULL when it cannot be read). */
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) return NULL;
+    char *buf = malloc(65536);
+    size_t n = buf ? fread(buf, 1, 65535, f) : 0;
+    fclose(f);
+    if (buf) buf[n] = '\0';
+    return buf;
+}
+
+/* Sum of steps.tsv's t_total_ms column (NaN when absent). */
+static double solver_ms(const char *dir)
+{
+    char path[PATHMAX], line[4096];
+    if ((size_t)snprintf(path, sizeof path, "%s/steps.tsv", dir) >= sizeof path) return NAN;
+    FILE *f = fopen(path, "r");
+    if (!f) return NAN;
+    int col = -1, ln = 0;
+    double sum = 0;
+    while (fgets(line, sizeof line, f)) {
+        int k = 0;
+        char *save = NULL;
+        for (char *t = strtok_r(line, "\t\n", &save); t; t = strtok_r(NULL, "\t\n", &save), k++) {
+            if (ln == 0 && strcmp(t, "t_total_ms") == 0) col = k;
+            else if (ln > 0 && k == col) sum += strtod(t, NULL);
+        }
+        ln++;
+    }
+    fclose(f);
+    return col >= 0 ? sum : NAN;
+}
+
+static int write_report(run_ctx *c, kt_err *e)
+{
+    kt_report_step *st = kt_calloc(c->nstep, sizeof(kt_report_step), e);
+    if (!st) return e->code;
+    for (int i = 0; i < c->nstep; i++) {
+        step_cmp d;
+        compare(c, i, &d);
+        st[i].k = c->res[i].k;
+        st[i].k_inc = d.k_inc, st[i].k_ort = d.k_ort, st[i].flat = d.flat, st[i].steep = d.steep;
+        st[i].va = d.va;
+        st[i].tot = c->res[i].tot;
+        st[i].arc = arc_of(c, i);
+    }
+    char yaml[PATHMAX], fitname[64], path[PATHMAX];
+    char *run_yaml = NULL;
+    if (c->o->run_dir && join(yaml, c->o->run_dir, "run.yaml", e) == KT_OK) run_yaml = slurp(yaml);
+    if (c->o->fit == KT_FIT_ZERNIKE) snprintf(fitname, sizeof fitname, "Zernike order %d", c->res[0].fit.order);
+    else snprintf(fitname, sizeof fitname, "biconic (toric)");
+    kt_report r;
+    memset(&r, 0, sizeof r);
+    r.version = KT_VERSION, r.run_dir = c->o->run_dir ? c->o->run_dir : ".", r.mesh = c->mesh;
+    r.plan_path = c->plan_in ? c->plan_in->path : NULL, r.run_yaml = run_yaml, r.plan = c->plan_in;
+    r.mesh_nn = c->mesh_nn, r.mesh_ne = c->mesh_ne, r.mesh_order = c->mesh_order;
+    r.nstep = c->nstep, r.step = st, r.meridian = c->meridian, r.has_target = c->has_target, r.tia = c->tia;
+    r.map_pre = &c->res[0].map, r.map_post = &c->res[c->nstep - 1].map;
+    r.rad_pre = c->res[0].map_radius, r.rad_post = c->res[c->nstep - 1].map_radius;
+    r.zone = c->o->zone, r.fit_name = fitname, r.scale = &c->scale, r.diff_scale = &c->diff_scale;
+    r.section = c->section.n > 0 ? &c->section : NULL;
+    r.solver_ms = c->o->run_dir ? solver_ms(c->o->run_dir) : NAN;
+    r.curv_s = kt_now() - c->t0;
+    r.n = &c->n;
+    int rc = tmp_path(c, path, "report.html", e);
+    if (rc == KT_OK) rc = kt_curv_report_write(path, &r, e);
+    if (rc == KT_OK) rc = add_file(c, "report.html", e);
+    free(run_yaml), free(st);
+    return rc;
 }
 
 /* ---------------------------------------------------------------- driver */
@@ -503,18 +759,22 @@ static int setup(run_ctx *c, kt_err *e)
 
     kt_mesh m;
     if (kt_msh_read(c->mesh, &m, e) != KT_OK) return e->code;
-    c->mesh_nn = m.nn;
+    c->mesh_nn = m.nn, c->mesh_ne = m.ne, c->mesh_order = m.order;
     int rc = kt_curv_anterior_mask(&m, c->mesh, &c->mask, e);
+    if (rc == KT_OK) rc = kt_curv_posterior_mask(&m, &c->post_mask, e);
     kt_mesh_free(&m);
     if (rc) return rc;
+    kt_cornea_n_default(&c->n);
 
-    if (o->png) {
+    if (o->png || o->report) {
         char scale[PATHMAX];
         const char *share = o->share ? o->share : getenv("KERATOME_SHARE");
         if (!share) share = KT_SHARE_DIR;
         if (o->scale) snprintf(scale, sizeof scale, "%s", o->scale);
         else if (join(scale, share, "colour/axial.tsv", e)) return e->code;
         if (kt_topo_scale_load(scale, &c->scale, e)) return e->code;
+        if (o->report && (join(scale, share, "colour/difference.tsv", e) || kt_topo_scale_load(scale, &c->diff_scale, e)))
+            return e->code;
     }
     c->res = kt_calloc(c->nstep, sizeof(step_res), e);
     if (!c->res) return e->code;
@@ -536,7 +796,9 @@ static void ctx_free(run_ctx *c)
 {
     for (int i = 0; i < c->nstep && c->vtk; i++) free(c->vtk[i]);
     for (int i = 0; i < c->nfile; i++) free(c->file[i]);
-    free(c->vtk), free(c->file), free(c->mask), free(c->res);
+    free(c->vtk), free(c->file), free(c->mask), free(c->post_mask), free(c->res), free(c->u0);
+    kt_section_free(&c->section);
+    free(c->plan_in);
 }
 
 int kt_curv_run(const kt_curv_opts *o, FILE *out, kt_err *e)
@@ -544,6 +806,7 @@ int kt_curv_run(const kt_curv_opts *o, FILE *out, kt_err *e)
     run_ctx *c = kt_calloc(1, sizeof(run_ctx), e);
     if (!c) return e->code;
     c->o = o;
+    c->t0 = kt_now();
     int rc = setup(c, e);
     kt_progress pr;
     if (rc == KT_OK) kt_progress_start(&pr, "curvature", c->nstep, o->quiet);
@@ -561,8 +824,10 @@ int kt_curv_run(const kt_curv_opts *o, FILE *out, kt_err *e)
         c->meridian = fmod(fmod(c->meridian, 180) + 180, 180);
         rc = write_tables(c, e);
     }
+    if (rc == KT_OK && o->run_dir) rc = write_pvd(c, e);
+    if (rc == KT_OK && o->report) rc = write_report(c, e);
     if (rc == KT_OK) rc = commit_files(c, e);
-    if (rc == KT_OK) summary(c, out);
+    if (rc == KT_OK) (o->json ? summary_json : summary)(c, out);
     drop_tmpdir(c);
     if (rc != KT_OK && c->made_outdir) rmdir(c->outdir);
     ctx_free(c);

@@ -22,12 +22,16 @@ typedef struct kt_curv_opts {
     int quiet;
     const char *scale;       /* colour scale TSV; NULL: SHARE/colour/axial.tsv */
     const char *share;       /* share folder; NULL: $KERATOME_SHARE, else the build's share/ */
+    int report;              /* write report.html (needs the maps' colour scales) */
+    int json;                /* the summary as JSON instead of text */
 } kt_curv_opts;
 
 void kt_curv_opts_default(kt_curv_opts *o);
 
-/* Analyse every step, write curvature.tsv, meridians.tsv, surface-NNNN.vtk and axial-NNNN.png
- * into the output folder (all or nothing) and print the summary on `summary`. */
+/* Analyse every step, write curvature.tsv, meridians.tsv, surface-NNNN.vtk, axial-NNNN.png,
+ * report.html (optics/curv_report.h) and, for a run folder, steps.pvd (a ParaView collection
+ * of the step VTKs) into the output folder (all or nothing) and print the summary (text, or
+ * JSON with o->json) on `summary`. */
 int kt_curv_run(const kt_curv_opts *o, FILE *summary, kt_err *e);
 
 #endif

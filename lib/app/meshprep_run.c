@@ -93,6 +93,9 @@ static void print_reference(FILE *f, const run_info *r)
                    "             nodes moved up to %.1f um (%.2f s)\n",
                 r->rs.iters, 1000 * r->rs.residual, 1000 * r->ro.tol, 1000 * r->rs.initial, 1000 * r->rs.shift,
                 r->t_ref);
+    } else if (r->s->reference == KT_REFERENCE_PRESTRESSED) {
+        fprintf(f, "reference    the scene's (measured) geometry under its loads, kept as it is: augsolve\n"
+                   "             linearizes about it with the loads' prestress (loads.reference: prestressed)\n");
     } else if (r->s->reference == KT_REFERENCE_UNLOADED) {
         fprintf(f, "reference    the scene's geometry, taken as stress-free (loads.reference: unloaded)\n");
     } else {
@@ -188,6 +191,11 @@ static int compare_orderings(const kt_mesh *m, const unsigned char *fixed, const
 static int unload(const kt_prep_opts *o, const kt_scene *s, run_info *r, kt_mesh *m, kt_err *e)
 {
     if (s->reference != KT_REFERENCE_LOADED) return KT_OK;
+    for (int i = 0; i < s->nmat; i++)
+        if (s->mat[i].fibre)
+            return kt_fail(e, KT_EINPUT, "%s: materials.%s: model fibre needs loads.reference "
+                           "prestressed or unloaded (the stress-free iteration is isotropic only)",
+                           s->path, s->mat[i].region);
     double t0 = kt_now();
     kt_refgeom_opts_default(s, &r->ro);
     r->ro.quiet = o->quiet;

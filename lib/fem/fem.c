@@ -188,6 +188,298 @@ int kt_fem_tet_stiffness(int order, const double *x, kt_material mat, double *Ke
     return KT_OK;
 }
 
+/* ------------------------------------------------- general material, prestress */
+
+/* The rule the element stiffness uses for this element (P1: centroid; P2: 4 points straight,
+ * 14 curved). */
+static tet_rule element_rule(int order, const double *x)
+{
+    static const double CENTROID[1][3] = {{0.25, 0.25, 0.25}};
+    static const double W1[1] = {1.0 / 6};
+    if (order == 1) return (tet_rule){1, CENTROID, W1};
+    if (is_straight(x)) return (tet_rule){4, Q4_P, Q4_W};
+    return (tet_rule){14, Q14_P, Q14_W};
+}
+
+void kt_fem_iso_matrix(double E, double nu, double C[36])
+{
+    double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+    memset(C, 0, 36 * sizeof(double));
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) C[6 * i + j] = lam;
+        C[6 * i + i] += 2 * mu;
+        C[6 * (i + 3) + i + 3] = mu;
+    }
+}
+
+static const int VOIGT[3][3] = {{0, 5, 4}, {5, 1, 3}, {4, 3, 2}};
+
+/* C += s v(x)v(x)v(x)v in Voigt form (v unit). */
+static void add_fibre(double C[36], const double v[3], double s)
+{
+    static const int I[6][2] = {{0, 0}, {1, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}};
+    for (int p = 0; p < 6; p++)
+        for (int q = 0; q < 6; q++)
+            C[6 * p + q] += s * v[I[p][0]] * v[I[p][1]] * v[I[q][0]] * v[I[q][1]];
+}
+
+void kt_fem_fibre_matrix(const kt_fibre_material *mat, const double a1[3], const double a2[3],
+                         const double n[3], const double c[3], double Ec, double C[36])
+{
+    double Em = fmin(mat->E1, mat->E2), nu = mat->nu;
+    double mu = Em / (2 * (1 + nu)), lam = 2 * mu * nu / (1 - 2 * nu);
+    /* local Voigt matrix, axes (a1, a2, n) */
+    double D[36] = {0};
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) D[6 * i + j] = lam;
+        D[6 * i + i] += 2 * mu;
+    }
+    D[6 * 3 + 3] = mat->Gt; /* 23 = a2-n shear */
+    D[6 * 4 + 4] = mat->Gt; /* 13 = a1-n shear */
+    D[6 * 5 + 5] = mu;      /* 12: in-plane shear */
+    D[0] += mat->E1 - Em;
+    D[7] += mat->E2 - Em;
+    /* rotate the tensor: C_ijkl = Q_ai Q_bj Q_ck Q_dl D_abcd, Q rows = local axes */
+    const double *Q[3] = {a1, a2, n};
+    memset(C, 0, 36 * sizeof(double));
+    static const int I[6][2] = {{0, 0}, {1, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}};
+    for (int p = 0; p < 6; p++)
+        for (int q = p; q < 6; q++) {
+            int i = I[p][0], j = I[p][1], k = I[q][0], l = I[q][1];
+            double sum = 0;
+            for (int a = 0; a < 3; a++)
+                for (int b = 0; b < 3; b++)
+                    for (int cc = 0; cc < 3; cc++)
+                        for (int d = 0; d < 3; d++) {
+                            double dv = D[6 * VOIGT[a][b] + VOIGT[cc][d]];
+                            if (dv != 0) sum += Q[a][i] * Q[b][j] * Q[cc][k] * Q[d][l] * dv;
+                        }
+            C[6 * p + q] = C[6 * q + p] = sum;
+        }
+    if (Ec > 0) add_fibre(C, c, Ec);
+}
+
+/* B (6 x 3nv) of the physical gradients g, engineering shear strains. */
+static void strain_matrix(int nv, double (*g)[3], double *B)
+{
+    int ld = 3 * nv;
+    memset(B, 0, sizeof(double) * 6 * ld);
+    for (int a = 0; a < nv; a++) {
+        double *b = B + 3 * a;
+        b[0 * ld + 0] = g[a][0];
+        b[1 * ld + 1] = g[a][1];
+        b[2 * ld + 2] = g[a][2];
+        b[3 * ld + 1] = g[a][2];
+        b[3 * ld + 2] = g[a][1];
+        b[4 * ld + 0] = g[a][2];
+        b[4 * ld + 2] = g[a][0];
+        b[5 * ld + 0] = g[a][1];
+        b[5 * ld + 1] = g[a][0];
+    }
+}
+
+/* Ke += w B^T C B. */
+static void add_btcb(int nv, const double *B, const double *C, double w, double *Ke)
+{
+    int ld = 3 * nv;
+    double CB[6 * 30];
+    for (int p = 0; p < 6; p++)
+        for (int r = 0; r < ld; r++) {
+            double s = 0;
+            for (int q = 0; q < 6; q++) s += C[6 * p + q] * B[q * ld + r];
+            CB[p * ld + r] = s;
+        }
+    for (int r = 0; r < ld; r++)
+        for (int s = 0; s < ld; s++) {
+            double v = 0;
+            for (int p = 0; p < 6; p++) v += B[p * ld + r] * CB[p * ld + s];
+            Ke[r * ld + s] += w * v;
+        }
+}
+
+/* Ke(3a+i, 3b+i) += w g_a . sig g_b: the stress stiffness of a prestress sig (Voigt). */
+static void add_sigma(int nv, double (*g)[3], const double *sig, double w, double *Ke)
+{
+    int ld = 3 * nv;
+    double S[3][3];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) S[i][j] = sig[VOIGT[i][j]];
+    for (int a = 0; a < nv; a++) {
+        double Sg[3];
+        for (int i = 0; i < 3; i++) Sg[i] = S[i][0] * g[a][0] + S[i][1] * g[a][1] + S[i][2] * g[a][2];
+        for (int b = 0; b < nv; b++) {
+            double v = w * (Sg[0] * g[b][0] + Sg[1] * g[b][1] + Sg[2] * g[b][2]);
+            for (int i = 0; i < 3; i++) Ke[(3 * a + i) * ld + 3 * b + i] += v;
+        }
+    }
+}
+
+/* Local face f of a tet (opposite vertex f): its nodes in gmsh tri order, oriented outward. */
+static int face_nodes(int nv, int f, const double *x, int *loc)
+{
+    int v[3] = {kt_tet_face[f][0], kt_tet_face[f][1], kt_tet_face[f][2]};
+    const double *a = x + 3 * v[0], *b = x + 3 * v[1], *c = x + 3 * v[2], *d = x + 3 * f;
+    if (kt_tet_volume(a, b, c, d) > 0) { /* (b-a) x (c-a) points towards d: flip */
+        int t = v[1];
+        v[1] = v[2];
+        v[2] = t;
+    }
+    for (int k = 0; k < 3; k++) loc[k] = v[k];
+    if (nv == 4) return 3;
+    for (int k = 0; k < 3; k++) {
+        int i = v[k], j = v[(k + 1) % 3];
+        for (int s = 0; s < 6; s++)
+            if ((kt_tet_edge[s][0] == i && kt_tet_edge[s][1] == j) ||
+                (kt_tet_edge[s][0] == j && kt_tet_edge[s][1] == i))
+                loc[3 + k] = 4 + s;
+    }
+    return 6;
+}
+
+/* Ke -= sym(K_p) of a follower pressure p on local face f. */
+static void add_face_load(int order, int nv, const double *x, int f, double p, double *Ke)
+{
+    int loc[6], fv = face_nodes(nv, f, x, loc), ld = 3 * nv, lf = 3 * fv;
+    double xf[18], Kf[324];
+    for (int a = 0; a < fv; a++) memcpy(xf + 3 * a, x + 3 * loc[a], 3 * sizeof(double));
+    kt_fem_face_load_stiffness(order, xf, p, Kf);
+    for (int a = 0; a < fv; a++)
+        for (int b = 0; b < fv; b++)
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) {
+                    double k = 0.5 * (Kf[(3 * a + i) * lf + 3 * b + j] + Kf[(3 * b + j) * lf + 3 * a + i]);
+                    Ke[(3 * loc[a] + i) * ld + 3 * loc[b] + j] -= k;
+                }
+}
+
+static void gather_x(const kt_mesh *m, int tet, double *x)
+{
+    int nv = kt_tet_nv(m->order);
+    const int *t = m->tet + (size_t)tet * nv;
+    for (int a = 0; a < nv; a++) memcpy(x + 3 * a, m->xyz + 3 * (size_t)t[a], 3 * sizeof(double));
+}
+
+/* The element's C (td->C or the region's isotropic one). */
+static int element_C(const kt_mesh *m, const kt_materials *mats, int tet, double C[36], kt_err *e)
+{
+    if (mats->td && mats->td->C) {
+        memcpy(C, mats->td->C + 36 * (size_t)tet, 36 * sizeof(double));
+        return KT_OK;
+    }
+    kt_material mat = mats->mat[m->tet_tag[tet]];
+    if (check_material(mat, e)) return e->code;
+    kt_fem_iso_matrix(mat.E, mat.nu, C);
+    return KT_OK;
+}
+
+/* Physical gradients at quadrature point q of the element rule, with a degeneracy check. */
+static int point_gradients(int nv, const double *x, const tet_rule *rule, int q, double (*g)[3],
+                           double *det, kt_err *e)
+{
+    double dN[10][3], h = longest_edge(x), tiny = 1e-12 * h * h * h;
+    shape_gradients(nv, rule->p[q], dN);
+    *det = physical_gradients(nv, x, dN, g);
+    if (!(*det > tiny))
+        return kt_fail(e, KT_ERUN,
+                       "%s element: Jacobian determinant %.3g at quadrature point %d of %d "
+                       "(longest edge %.3g mm)",
+                       *det < 0 ? "inverted" : "degenerate", *det, q + 1, rule->n, h);
+    return KT_OK;
+}
+
+int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *Ke, kt_err *e)
+{
+    int nv = kt_tet_nv(m->order), ld = 3 * nv;
+    double x[30];
+    gather_x(m, tet, x);
+    const kt_fem_tetdata *td = mats->td;
+    if (!td) return kt_fem_tet_stiffness(m->order, x, mats->mat[m->tet_tag[tet]], Ke, e);
+    double C[36], B[6 * 30], g[10][3], det;
+    if (element_C(m, mats, tet, C, e)) return e->code;
+    tet_rule rule = element_rule(m->order, x);
+    memset(Ke, 0, sizeof(double) * ld * ld);
+    for (int q = 0; q < rule.n; q++) {
+        if (point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
+        strain_matrix(nv, g, B);
+        add_btcb(nv, B, C, rule.w[q] * det, Ke);
+        if (td->sig)
+            add_sigma(nv, g, td->sig + ((size_t)tet * KT_FEM_NQ + q) * 6, rule.w[q] * det, Ke);
+    }
+    if (td->pface)
+        for (int f = 0; f < 4; f++) {
+            double p = td->pface[4 * (size_t)tet + f];
+            if (p != 0) add_face_load(m->order, nv, x, f, p, Ke);
+        }
+    return KT_OK;
+}
+
+int kt_fem_element_release(const kt_mesh *m, const kt_materials *mats, int tet, double *fe,
+                           kt_err *e)
+{
+    int nv = kt_tet_nv(m->order), ld = 3 * nv;
+    memset(fe, 0, sizeof(double) * ld);
+    if (!mats->td || !mats->td->sig) return KT_OK;
+    double x[30], B[6 * 30], g[10][3], det;
+    gather_x(m, tet, x);
+    tet_rule rule = element_rule(m->order, x);
+    for (int q = 0; q < rule.n; q++) {
+        if (point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
+        strain_matrix(nv, g, B);
+        const double *sig = mats->td->sig + ((size_t)tet * KT_FEM_NQ + q) * 6;
+        for (int r = 0; r < ld; r++) {
+            double s = 0;
+            for (int p = 0; p < 6; p++) s += B[p * ld + r] * sig[p];
+            fe[r] -= rule.w[q] * det * s;
+        }
+    }
+    return KT_OK;
+}
+
+int kt_fem_release_loads(const kt_mesh *m, const kt_materials *mats, double *f, kt_err *e)
+{
+    if (!mats->td || !mats->td->sig) return KT_OK;
+    int nv = kt_tet_nv(m->order);
+    double fe[30];
+    for (int el = 0; el < m->ne; el++) {
+        if (kt_fem_element_release(m, mats, el, fe, e)) return e->code;
+        const int *t = m->tet + (size_t)el * nv;
+        for (int a = 0; a < nv; a++)
+            for (int c = 0; c < 3; c++) f[3 * (size_t)t[a] + c] += fe[3 * a + c];
+    }
+    return KT_OK;
+}
+
+int kt_fem_stress(const kt_mesh *m, const kt_materials *mats, const double *u, double *sig,
+                  kt_err *e)
+{
+    int nv = kt_tet_nv(m->order), ld = 3 * nv;
+    double x[30], ue[30], C[36], B[6 * 30], g[10][3], det;
+    for (int el = 0; el < m->ne; el++) {
+        gather_x(m, el, x);
+        const int *t = m->tet + (size_t)el * nv;
+        for (int a = 0; a < nv; a++) memcpy(ue + 3 * a, u + 3 * (size_t)t[a], 3 * sizeof(double));
+        if (element_C(m, mats, el, C, e)) return e->code;
+        tet_rule rule = element_rule(m->order, x);
+        double *s_el = sig + (size_t)el * KT_FEM_NQ * 6;
+        memset(s_el, 0, sizeof(double) * KT_FEM_NQ * 6);
+        for (int q = 0; q < rule.n; q++) {
+            if (point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
+            strain_matrix(nv, g, B);
+            double eps[6];
+            for (int p = 0; p < 6; p++) {
+                eps[p] = 0;
+                for (int r = 0; r < ld; r++) eps[p] += B[p * ld + r] * ue[r];
+            }
+            for (int p = 0; p < 6; p++) {
+                double s = 0;
+                for (int k = 0; k < 6; k++) s += C[6 * p + k] * eps[k];
+                s_el[6 * q + p] = s;
+            }
+        }
+    }
+    return KT_OK;
+}
+
 /* ------------------------------------------------------------------ pattern */
 
 /* Node adjacency, lower part: for node j, Ni[Np[j]..Np[j+1]) lists j itself and then, in
@@ -308,9 +600,12 @@ static int check_inputs(const kt_mesh *m, const kt_materials *mats, kt_err *e)
             return kt_fail(e, KT_EINPUT, "tet %d has region tag %d with no material (%d given)",
                            el + 1, t, mats->nmat);
     }
+    if (mats->td && mats->td->ne != m->ne)
+        return kt_fail(e, KT_EINPUT, "per-tet data for %d tets, mesh has %d", mats->td->ne, m->ne);
     for (int t = 0; t < mats->nmat; t++) {
         kt_err le = {0};
-        if (kt_mesh_find_tag(m, 3, t) && check_material(mats->mat[t], &le))
+        if (!(mats->td && mats->td->C) && kt_mesh_find_tag(m, 3, t) &&
+            check_material(mats->mat[t], &le))
             return kt_fail(e, le.code, "region %d: %s", t, le.msg);
     }
     return KT_OK;
@@ -352,12 +647,11 @@ static int add_elements(const kt_mesh *m, const kt_materials *mats, const node_p
                         cholmod_sparse *A, kt_err *e)
 {
     int nv = kt_tet_nv(m->order);
-    double x[30], Ke[900];
+    double Ke[900];
     for (int el = 0; el < m->ne; el++) {
         const int *t = m->tet + (size_t)el * nv;
-        for (int a = 0; a < nv; a++) memcpy(x + 3 * a, m->xyz + 3 * (size_t)t[a], 3 * sizeof(double));
         kt_err le = {0};
-        if (kt_fem_tet_stiffness(m->order, x, mats->mat[m->tet_tag[el]], Ke, &le))
+        if (kt_fem_element(m, mats, el, Ke, &le))
             return kt_fail(e, le.code, "tet %d (region %d): %s", el + 1, m->tet_tag[el], le.msg);
         scatter(P, t, nv, Ke, A);
     }

@@ -1,4 +1,6 @@
-/* fem.h: isotropic linear elasticity on 4- and 10-node tetrahedra, assembled for CHOLMOD. */
+/* fem.h: linear elasticity on 4- and 10-node tetrahedra, assembled for CHOLMOD: isotropic or
+ * fibre-reinforced lamellar material, and the tangent stiffness of a prestressed body under a
+ * follower pressure (stress stiffness, load stiffness, release of prestress across cuts). */
 #ifndef KT_FEM_H
 #define KT_FEM_H
 
@@ -12,17 +14,84 @@ typedef struct kt_material {
     double nu;  /* Poisson ratio */
 } kt_material;
 
-/* Materials by region tag: region tag t uses mat[t]; nmat > every tag in the mesh. */
+/* A lamellar (fibre-reinforced) material; its per-tet matrices go into kt_fem_tetdata.C. */
+typedef struct kt_fibre_material {
+    double E1, E2; /* in-plane tensile moduli along the fibre directions a1, a2, MPa */
+    double Gt;     /* transverse (interlamellar) shear modulus, MPa */
+    double nu;     /* Poisson ratio of the lamellar matrix (sets lambda) */
+} kt_fibre_material;
+
+/* Per-tet data beyond the region material, indexed by tet number (cuts keep tet numbers, so it
+ * travels with a tet that moves to a child node). Every array may be NULL.
+ *   C     ne x 36: constitutive matrix in global axes (Voigt 11 22 33 23 13 12, engineering
+ *         shear strains); replaces the region's isotropic E, nu.
+ *   sig   ne x KT_FEM_NQ x 6: prestress (MPa, Voigt) at the element's quadrature points. It adds
+ *         the stress (geometric) stiffness K_sigma, and its internal forces -int B^T sig are
+ *         part of the loads (kt_fem_release_loads): on an intact body in equilibrium with its
+ *         loads they cancel those loads; on a cut one they release the traction of the cut faces.
+ *   pface ne x 4: follower pressure (MPa) on local face f (the face opposite vertex f), pushing
+ *         into the solid; adds -sym(K_p), K_p = d f_pressure / d u. */
+#define KT_FEM_NQ 14
+typedef struct kt_fem_tetdata {
+    int ne;
+    double *C, *sig, *pface;
+} kt_fem_tetdata;
+
+/* Materials by region tag: region tag t uses mat[t]; nmat > every tag in the mesh. td (may be
+ * NULL) adds per-tet data; the caller owns it. */
 typedef struct kt_materials {
     int nmat;
     kt_material *mat;
+    const kt_fem_tetdata *td;
 } kt_materials;
+
+/* Constitutive matrix (Voigt, global axes) of the lamellar material: an isotropic matrix
+ * (lambda, mu) whose shear in the planes containing the normal n is Gt instead of mu (nearly
+ * incompressible transverse isotropy, NITI), plus fibre terms E_f a (x) a (x) a (x) a: with
+ * Em = min(E1, E2), mu = Em / (2 (1 + nu)), lambda = 2 mu nu / (1 - 2 nu), a fibre term
+ * E1 - Em along a1 or E2 - Em along a2, and Ec along the unit in-plane vector c (the limbal
+ * circumferential fibres). Uniaxial stress along the stiffer of a1, a2 (or along c) then has
+ * modulus E1 or E2 (+ Ec) exactly; along the softer one it is somewhat stiffer than its E, as
+ * the other fibres restrain the lateral contraction (exact when E1 = E2, Ec = 0: transverse
+ * isotropy). Shear on the planes containing n has modulus Gt, in-plane shear mu. a1, a2, n
+ * orthonormal. */
+void kt_fem_fibre_matrix(const kt_fibre_material *mat, const double a1[3], const double a2[3],
+                         const double n[3], const double c[3], double Ec, double C[36]);
+
+/* Isotropic constitutive matrix (Voigt) of E, nu. */
+void kt_fem_iso_matrix(double E, double nu, double C[36]);
 
 /* DOF numbering everywhere: DOF 3*node + c (c = x, y, z), so the node order is the DOF order. */
 
 /* Element stiffness, row-major (3nv x 3nv), nv = kt_tet_nv(order), x = 3nv coordinates.
  * Fails (KT_ERUN) when the Jacobian is not positive at a quadrature point. */
 int kt_fem_tet_stiffness(int order, const double *x, kt_material mat, double *Ke, kt_err *e);
+
+/* Element (tangent) stiffness of tet `tet` of m, row-major 3nv x 3nv: material stiffness with
+ * the region's material or td->C, plus the stress stiffness of td->sig, minus the symmetric part
+ * of the load stiffness of td->pface. */
+int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *Ke, kt_err *e);
+
+/* Prestress internal forces of tet `tet`: fe (3nv) = -int B^T sig (zero without td->sig). */
+int kt_fem_element_release(const kt_mesh *m, const kt_materials *mats, int tet, double *fe,
+                           kt_err *e);
+
+/* f (3*nn) += the prestress internal forces of every tet (nothing without td->sig). */
+int kt_fem_release_loads(const kt_mesh *m, const kt_materials *mats, double *f, kt_err *e);
+
+/* Stress C eps(u) at the quadrature points of every tet, into sig (ne x KT_FEM_NQ x 6), with
+ * the material stiffness of mats (region material or td->C). */
+int kt_fem_stress(const kt_mesh *m, const kt_materials *mats, const double *u, double *sig,
+                  kt_err *e);
+
+/* pface (ne x 4) += p on the local face of the tet each triangle of surface surf_tag bounds. */
+int kt_fem_pressure_faces(const kt_mesh *m, int surf_tag, double p, double *pface, kt_err *e);
+
+/* Load stiffness of a follower pressure p on one face: Kf (3fv x 3fv, row-major, fv = 3 or 6)
+ * = d f / d u, f_a = -p int N_a n dA; xf = the face's nodes (gmsh tri order), oriented so that
+ * (x1 - x0) x (x2 - x0) points out of the solid. Not symmetric in general: its assembly over a
+ * closed surface (or one whose boundary nodes are fixed) is, on the free DOFs. */
+void kt_fem_face_load_stiffness(int order, const double *xf, double p, double *Kf);
 
 /* Global stiffness of the whole mesh (3*nn DOFs), symmetric, lower triangle stored (stype -1).
  * DOFs marked in fixed (may be NULL) get identity rows and columns: the matrix a Dirichlet

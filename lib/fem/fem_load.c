@@ -31,7 +31,8 @@ static kt_face *group_faces(const kt_mesh *m, int tag, int *count, kt_err *e)
 
 /* For each group triangle k: how many tets have it as a face, and the vertex opposite to it in
  * (the last) one of them. */
-static void find_adjacent_tets(const kt_mesh *m, const kt_face *F, int nF, int *ntet, int *opp)
+static void find_adjacent_tets(const kt_mesh *m, const kt_face *F, int nF, int *ntet, int *opp,
+                               int *tet_of, int *face_of)
 {
     int nv = kt_tet_nv(m->order);
     for (int el = 0; el < m->ne; el++) {
@@ -46,6 +47,7 @@ static void find_adjacent_tets(const kt_mesh *m, const kt_face *F, int nF, int *
             for (; k < nF && kt_face_cmp_v(&F[k], &key) == 0; k++) {
                 ntet[k]++;
                 opp[k] = t[f];
+                if (tet_of) tet_of[k] = el, face_of[k] = f;
             }
         }
     }
@@ -140,7 +142,7 @@ int kt_fem_pressure(const kt_mesh *m, int surf_tag, double p, double *f, kt_err 
         kt_fail(e, KT_EINPUT, "pressure: surface '%s' (tag %d) has no triangles", g->name, surf_tag);
         goto done;
     }
-    find_adjacent_tets(m, F, nF, ntet, opp);
+    find_adjacent_tets(m, F, nF, ntet, opp, NULL, NULL);
     for (int k = 0; k < nF; k++)
         if (ntet[k] != 1) {
             kt_fail(e, KT_EINPUT,
@@ -159,5 +161,76 @@ done:
     free(F);
     free(ntet);
     free(opp);
+    return e->code;
+}
+
+/* ------------------------------------------------ follower-load stiffness */
+
+/* Kf (3fv x 3fv, row-major) = d f / d u of the follower pressure p on one face: the nodal forces
+ * f_a = -p int N_a n dA of the face in its current position, n = (x_s x x_t) / |x_s x x_t|
+ * oriented as given (outward from the solid), differentiated with respect to the face's nodal
+ * displacements:  Kf(3a+i, 3b+j) = -p int N_a eps_ijk (N_b,s x_t,k - N_b,t x_s,k) ds dt. */
+void kt_fem_face_load_stiffness(int order, const double *xf, double p, double *Kf)
+{
+    int fv = order == 1 ? 3 : 6, ld = 3 * fv;
+    memset(Kf, 0, sizeof(double) * ld * ld);
+    int nq = order == 1 ? 1 : 7;
+    for (int q = 0; q < nq; q++) {
+        double N[6], dN[6][2], xs[3] = {0}, xt[3] = {0}, w;
+        if (order == 1) {
+            static const double d1[3][2] = {{-1, -1}, {1, 0}, {0, 1}};
+            for (int a = 0; a < 3; a++) {
+                N[a] = 1.0 / 3;
+                dN[a][0] = d1[a][0];
+                dN[a][1] = d1[a][1];
+            }
+            w = 0.5;
+        } else {
+            tri6_shape(T7_P[q][0], T7_P[q][1], N, dN);
+            w = 0.5 * T7_W[q];
+        }
+        for (int a = 0; a < fv; a++)
+            for (int k = 0; k < 3; k++) {
+                xs[k] += xf[3 * a + k] * dN[a][0];
+                xt[k] += xf[3 * a + k] * dN[a][1];
+            }
+        for (int b = 0; b < fv; b++) {
+            double v[3]; /* N_b,s x_t - N_b,t x_s */
+            for (int k = 0; k < 3; k++) v[k] = dN[b][0] * xt[k] - dN[b][1] * xs[k];
+            /* M_ij = eps_ijk v_k */
+            double M[3][3] = {{0, v[2], -v[1]}, {-v[2], 0, v[0]}, {v[1], -v[0], 0}};
+            for (int a = 0; a < fv; a++)
+                for (int i = 0; i < 3; i++)
+                    for (int j = 0; j < 3; j++)
+                        Kf[(3 * a + i) * ld + 3 * b + j] += -p * w * N[a] * M[i][j];
+        }
+    }
+}
+
+int kt_fem_pressure_faces(const kt_mesh *m, int surf_tag, double p, double *pface, kt_err *e)
+{
+    const kt_group *g = kt_mesh_find_tag(m, 2, surf_tag);
+    if (!g) return kt_fail(e, KT_EINPUT, "pressure: no surface group with tag %d", surf_tag);
+    int nF = 0;
+    kt_face *F = group_faces(m, surf_tag, &nF, e);
+    if (!F) return e->code;
+    int n1 = nF ? nF : 1;
+    int *ntet = kt_calloc(n1, sizeof(int), e), *opp = kt_calloc(n1, sizeof(int), e);
+    int *tet_of = kt_calloc(n1, sizeof(int), e), *face_of = kt_calloc(n1, sizeof(int), e);
+    if (!e->code) {
+        find_adjacent_tets(m, F, nF, ntet, opp, tet_of, face_of);
+        for (int k = 0; k < nF && !e->code; k++) {
+            if (ntet[k] != 1)
+                kt_fail(e, KT_EINPUT, "pressure: triangle %d of surface '%s' is a face of %d tets "
+                        "(expected exactly 1)", F[k].id + 1, g->name, ntet[k]);
+            else
+                pface[4 * (size_t)tet_of[k] + face_of[k]] += p;
+        }
+    }
+    free(F);
+    free(ntet);
+    free(opp);
+    free(tet_of);
+    free(face_of);
     return e->code;
 }

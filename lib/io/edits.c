@@ -231,6 +231,7 @@ static int parse_dup(kt_edits_reader *r, cursor *c, kt_step *s, kt_err *e)
 {
     kt_edit ed = {0};
     ed.kind = KT_EDIT_DUP;
+    ed.line = r->line;
     if (get_index(r, c, r->nn_cur, "a node number", &ed.node, e)) return e->code;
     if (get_index(r, c, INT_MAX, "the new node's number", &ed.new_node, e)) return e->code;
     if (ed.new_node != r->nn_cur)
@@ -244,6 +245,7 @@ static int parse_dup(kt_edits_reader *r, cursor *c, kt_step *s, kt_err *e)
     if (!ed.el) return e->code;
     for (int i = 0; i < ed.nel; i++) {
         if (get_index(r, c, r->h.ne, "a tet number", &ed.el[i], e)) break;
+        if (i == 0) ed.col = c->col;
         for (int j = 0; j < i; j++)
             if (ed.el[j] == ed.el[i]) {
                 bad(r, c->col, e, "expected distinct tets, found %d twice", ed.el[i] + 1);
@@ -266,6 +268,7 @@ static int parse_fix(kt_edits_reader *r, cursor *c, kt_step *s, kt_err *e)
 {
     kt_edit ed = {0};
     ed.kind = KT_EDIT_FIX;
+    ed.line = r->line;
     if (get_index(r, c, r->nn_cur, "a node number", &ed.node, e)) return e->code;
     char *t = next_tok(c);
     int col = t ? c->col : c->eol;
@@ -287,6 +290,7 @@ static int parse_force(kt_edits_reader *r, cursor *c, kt_step *s, kt_err *e)
 {
     kt_edit ed = {0};
     ed.kind = KT_EDIT_FORCE;
+    ed.line = r->line;
     if (get_index(r, c, r->nn_cur, "a node number", &ed.node, e)) return e->code;
     for (int k = 0; k < 3; k++)
         if (get_double(r, c, "a force component in N", &ed.v[k], e)) return e->code;

@@ -31,6 +31,8 @@ typedef struct kt_edit {
     int *el;         /* DUP: those tets (owned) */
     unsigned mask;   /* FIX: components fixed (bit c) */
     double v[3];     /* FIX: displacement, mm; FORCE: force, N */
+    long line;       /* where the reader found it (0: not read from a stream) */
+    int col;         /* DUP: column of its first tet number */
 } kt_edit;
 
 typedef struct kt_step {

@@ -33,4 +33,13 @@ void kt_eye_sizes(const kt_eye *eye, int order, double *h_cornea, double *h_opti
 double kt_eye_layers(int order);
 
 
+/* Lamellar frames of the eye's tets (eye.fibres; keratome-scene(5)), at each tet's centroid:
+ * F[13 t + 0..2] a1 and [3..5] a2, the in-plane fibre directions (nasal-temporal and
+ * superior-inferior centrally, turned by w times their angle to the radial/circumferential pair),
+ * [6..8] n, the normal (from the anterior sphere's centre in the cornea, the globe's centre
+ * elsewhere), [9..11] c, the in-plane circumferential direction, [12] w, the limbal weight:
+ * 0 inside rc - limbal_band, 1 from the corneal edge rc = white_to_white/2 on (and in limbus and
+ * sclera), smoothstep between. */
+int kt_eye_fibre_frames(const kt_eye *eye, const kt_mesh *m, double *F, kt_err *e);
+
 #endif

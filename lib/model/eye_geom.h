@@ -38,6 +38,10 @@ typedef struct kt_eye {
     double globe_radius;            /* outer scleral radius, mm */
     double extent;                  /* polar angle where the model is cut off, deg (180: whole globe) */
     double optical_zone;            /* diameter of the refined central zone, mm */
+    double fibre_band;              /* width of the band inside the corneal edge over which the
+                                       lamellae turn circumferential, mm (eye.fibres) */
+    double fibre_density;           /* circumferential fibril density at the limbus relative to
+                                       the central cornea (eye.fibres.limbal_density) */
     double h_optical, h_incision, h_cornea, h_sclera; /* element sizes, mm */
     int nring;
     kt_ring ring[KT_SCENE_MAX];

@@ -39,6 +39,8 @@ static void eye_defaults(kt_eye *eye)
     eye->globe_radius = 12.0;                 /* axial length about 24 mm */
     eye->extent = 90.0;                       /* anterior segment: cut at the equator */
     eye->optical_zone = 7.0;
+    eye->fibre_band = 1.5;     /* lamellae turn within about 1-2 mm of the limbus (Meek & Newton) */
+    eye->fibre_density = 1.91; /* limbal fibril density / central, WAXS (PMC6443175) */
     eye->h_optical = 0.25;
     eye->h_incision = 0.15;
     eye->h_cornea = 0.4;
@@ -56,7 +58,7 @@ static void scene_defaults(kt_scene *s)
     s->ordering_centre = NAN;
     s->ordering_sector = NAN;
     s->ordering_halo = -1; /* default set once the model is known */
-    s->reference = KT_REFERENCE_LOADED; /* geometry = the measured (loaded) shape */
+    s->reference = -1; /* set by model_defaults: eye prestressed, others loaded */
     s->reference_tol = 3e-5;            /* mm (0.03 um): K within about 0.01 D at 3 mm */
 }
 
@@ -174,7 +176,8 @@ static const char *const EYE_KEYS[] = {
     "anterior_radius", "anterior_radius_steep", "anterior_radius_flat", "steep_axis",
     "posterior_radius", "central_thickness", "peripheral_thickness", "white_to_white",
     "limbus_width", "sclera_thickness", "globe_radius", "extent", "optical_zone", "mesh_size",
-    "incision_rings", NULL};
+    "incision_rings", "fibres", NULL};
+static const char *const FIBRE_KEYS[] = {"limbal_band", "limbal_density", NULL};
 
 /* Geometric consistency between fields; messages point at the field that breaks it. */
 static int check_eye(kt_yml *y, const yaml_node_t *n, const kt_eye *eye, kt_err *e)
@@ -251,6 +254,13 @@ static int parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
         kt_yml_key_quantity(y, n, w, "globe_radius", KT_UNIT_LENGTH, radius, &eye->globe_radius, e) ||
         kt_yml_key_quantity(y, n, w, "extent", KT_UNIT_ANGLE, range(0, 180, 1, 0), &eye->extent, e) ||
         kt_yml_key_quantity(y, n, w, "optical_zone", KT_UNIT_LENGTH, KT_YML_POSITIVE, &eye->optical_zone, e))
+        return e->code;
+    yaml_node_t *fib = kt_yml_get(y, n, "fibres");
+    if (fib && (kt_yml_check_map(y, fib, "eye.fibres", FIBRE_KEYS, e) ||
+                kt_yml_key_quantity(y, fib, "eye.fibres", "limbal_band", KT_UNIT_LENGTH,
+                                    range(0, 5, 0, 0), &eye->fibre_band, e) ||
+                kt_yml_key_number(y, fib, "eye.fibres", "limbal_density", range(1, 5, 0, 0),
+                                  &eye->fibre_density, e)))
         return e->code;
     if (eye->r_ant_steep > eye->r_ant_flat)
         return kt_yml_fail(y, kt_yml_get(y, n, "anterior_radius_steep"), e,
@@ -352,7 +362,9 @@ static int parse_ordering(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *
     return last ? name_field(y, last, "ordering.last", s->ordering_set, e) : KT_OK;
 }
 
-static const char *const MAT_KEYS[] = {"E", "nu", NULL};
+static const char *const MAT_KEYS[] = {"model", "E", "nu", "E_inplane", "E_inplane_2",
+                                       "G_transverse", NULL};
+static const char *const MAT_MODELS[] = {"isotropic", "fibre", NULL};
 
 static kt_region_mat *find_mat(kt_scene *s, const char *region)
 {
@@ -383,6 +395,28 @@ static int known_region(const kt_scene *s, const char *name)
     return in_list(BODY_REGIONS, name);
 }
 
+/* A fibre region: E_inplane (both in-plane directions unless E_inplane_2 gives the second),
+ * G_transverse, nu; a field left out keeps the region's default (an eye region's, else none). */
+static int parse_fibre_mat(kt_yml *y, const yaml_node_t *v, const char *what, kt_region_mat *r,
+                           kt_err *e)
+{
+    if (kt_yml_get(y, v, "E"))
+        return kt_yml_fail(y, kt_yml_get(y, v, "E"), e, "%s.E: expected E_inplane for model fibre", what);
+    if (!r->E1 && (!kt_yml_get(y, v, "E_inplane") || !kt_yml_get(y, v, "G_transverse") ||
+                   !kt_yml_get(y, v, "nu")))
+        return kt_yml_fail(y, v, e, "%s: expected E_inplane, G_transverse and nu (no default for this region)", what);
+    double E1 = r->E1;
+    if (kt_yml_key_quantity(y, v, what, "E_inplane", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &E1, e))
+        return e->code;
+    if (kt_yml_get(y, v, "E_inplane")) r->E2 = E1; /* transversely isotropic unless E_inplane_2 */
+    r->E1 = E1;
+    if (kt_yml_key_quantity(y, v, what, "E_inplane_2", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &r->E2, e) ||
+        kt_yml_key_quantity(y, v, what, "G_transverse", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &r->Gt, e) ||
+        kt_yml_key_number(y, v, what, "nu", range(-1, 0.5, 1, 1), &r->nu, e))
+        return e->code;
+    return KT_OK;
+}
+
 static int parse_materials(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *e)
 {
     if (kt_yml_check_map(y, n, "materials", NULL, e)) return e->code;
@@ -402,8 +436,24 @@ static int parse_materials(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err 
                                    KT_SCENE_MAX, KT_NAME_MAX);
             r = find_mat(s, region);
         }
+        /* model: as given; else fibre when a fibre field is given, isotropic when E is, else
+         * the region's default */
+        if (kt_yml_get(y, v, "E_inplane") || kt_yml_get(y, v, "E_inplane_2") || kt_yml_get(y, v, "G_transverse"))
+            r->fibre = 1;
+        else if (kt_yml_get(y, v, "E"))
+            r->fibre = 0;
+        if (kt_yml_key_choice(y, v, what, "model", MAT_MODELS, &r->fibre, e)) return e->code;
+        if (r->fibre && s->model != KT_MODEL_EYE)
+            return kt_yml_fail(y, kt_yml_get(y, v, "model"), e,
+                               "%s.model: expected isotropic (fibre frames exist on the eye only)", what);
+        if (r->fibre) {
+            if (parse_fibre_mat(y, v, what, r, e)) return e->code;
+            continue;
+        }
+        if (kt_yml_get(y, v, "E_inplane") || kt_yml_get(y, v, "E_inplane_2") || kt_yml_get(y, v, "G_transverse"))
+            return kt_yml_fail(y, v, e, "%s: expected 'model: fibre' with E_inplane, E_inplane_2, G_transverse", what);
         yaml_node_t *E = kt_yml_get(y, v, "E"), *nu = kt_yml_get(y, v, "nu");
-        if (!r->E && (!E || !nu))
+        if ((!r->E && !E) || (!r->nu && !nu))
             return kt_yml_fail(y, v, e, "%s: expected both 'E' and 'nu' (no default for this region)", what);
         if (kt_yml_key_quantity(y, v, what, "E", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &r->E, e) ||
             kt_yml_key_number(y, v, what, "nu", range(-1, 0.5, 1, 1), &r->nu, e))
@@ -415,14 +465,23 @@ static int parse_materials(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err 
 /* Literature defaults of the eye's tissues; sources in keratome-scene(5). */
 static void eye_material_defaults(kt_scene *s)
 {
-    add_mat(s, "cornea", 0.3, 0.49);
-    add_mat(s, "limbus", 1.0, 0.49);
+    /* Lamellar stroma: in-plane tensile 4.0 MPa and transverse shear 94 kPa in vivo by OCE at
+     * about 10 kHz (S0/A0 waves, same eyes), halved for the strain-rate effect (about 2x between
+     * 0.5 and 5 %/min, Elsheikh): 2.0 MPa, 47 kPa; nu 0.49 nearly incompressible (Pitre 2020). The
+     * limbus region: the same lamellae, fully circumferential (kt_physics). */
+    for (int k = 0; k < 2; k++) {
+        add_mat(s, k ? "limbus" : "cornea", 0, 0.49);
+        kt_region_mat *r = find_mat(s, k ? "limbus" : "cornea");
+        r->fibre = 1;
+        r->E1 = r->E2 = 2.0;
+        r->Gt = 0.047;
+    }
     add_mat(s, "sclera", 3.0, 0.49);
 }
 
 static const char *const PRESSURE_KEYS[] = {"surface", "value", NULL};
 static const char *const LOAD_KEYS[] = {"pressure", "reference", "reference_tolerance", NULL};
-static const char *const REFERENCES[] = {"loaded", "unloaded", NULL};
+static const char *const REFERENCES[] = {"loaded", "unloaded", "prestressed", NULL};
 
 static int parse_pressure(kt_yml *y, const yaml_node_t *n, const char *what, kt_pressure *p, kt_err *e)
 {
@@ -590,6 +649,7 @@ static void model_defaults(yaml_node_t *materials, yaml_node_t *loads, yaml_node
 {
     int eye = s->model == KT_MODEL_EYE;
     if (!materials && eye) eye_material_defaults(s);
+    if (s->reference < 0) s->reference = eye ? KT_REFERENCE_PRESTRESSED : KT_REFERENCE_LOADED;
     if (!loads && eye) {
         /* Mean intraocular pressure 15 mmHg (Klein et al. 1992), on the inner surface. */
         s->npressure = 1;

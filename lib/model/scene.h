@@ -12,9 +12,11 @@
 
 enum { KT_MODEL_EYE = 1, KT_MODEL_BOX, KT_MODEL_SURFACE, KT_MODEL_IMAGE };
 /* What the scene's geometry is (loads.reference): the measured shape under the scene's loads
- * (mesh-prep then computes the stress-free shape, lib/fem/refgeom.h), or already stress-free. */
-enum { KT_REFERENCE_LOADED = 0, KT_REFERENCE_UNLOADED = 1 };
-
+ * (mesh-prep then computes the stress-free shape, lib/fem/refgeom.h), or already stress-free.
+ * Or (prestressed) the measured shape under the loads, taken as it is: the solvers linearize
+ * about it with the stress the loads cause in it (lib/fem/physics.h), and no stress-free shape
+ * is computed. */
+enum { KT_REFERENCE_LOADED = 0, KT_REFERENCE_UNLOADED = 1, KT_REFERENCE_PRESTRESSED = 2 };
 
 /* Box (the paper's beams and brick): nodes n[3] over lengths len[3], mm. */
 typedef struct kt_box {
@@ -33,7 +35,10 @@ typedef struct kt_cgal {
 
 typedef struct kt_region_mat {
     char region[KT_NAME_MAX];
-    double E, nu;               /* MPa, - */
+    double E, nu;               /* MPa, - (isotropic; fibre: nu of the lamellar matrix) */
+    int fibre;                  /* model: 0 isotropic, 1 fibre (lamellar, eye only) */
+    double E1, E2, Gt;          /* fibre: in-plane moduli along a1 (nasal-temporal centrally)
+                                   and a2, transverse shear modulus, MPa */
 } kt_region_mat;
 
 typedef struct kt_pressure {

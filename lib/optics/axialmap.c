@@ -1,4 +1,5 @@
 /* axialmap.c: axial power maps in the style of a corneal topographer, written as PNG by libpng. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <png.h>
 #include <stdlib.h>
@@ -306,6 +307,23 @@ static int png_encode(FILE *f, const kt_topo_image *img, kt_err *e)
     for (int y = 0; y < img->h; y++) png_write_row(png, img->rgb + (size_t)y * img->w * 3);
     png_write_end(png, NULL);
     png_destroy_write_struct(&png, &info);
+    return KT_OK;
+}
+
+int kt_topo_png_bytes(const kt_topo_image *img, unsigned char **buf, size_t *len, kt_err *e)
+{
+    char *mem = NULL;
+    size_t n = 0;
+    *buf = NULL, *len = 0;
+    FILE *f = open_memstream(&mem, &n);
+    if (!f) return kt_fail(e, KT_ERUN, "PNG in memory: cannot open a memory stream");
+    int rc = png_encode(f, img, e);
+    if (fclose(f) != 0 && rc == KT_OK) rc = kt_fail(e, KT_ERUN, "PNG in memory: out of memory");
+    if (rc != KT_OK) {
+        free(mem);
+        return rc;
+    }
+    *buf = (unsigned char *)mem, *len = n;
     return KT_OK;
 }
 

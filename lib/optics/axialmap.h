@@ -54,6 +54,9 @@ int kt_topo_render(const kt_topo_scale *s, const kt_topo_map *m, kt_topo_power_f
                    const void *ctx, kt_topo_image *img, kt_err *e);
 void kt_topo_image_free(kt_topo_image *img);
 
+/* The 8-bit RGB PNG file of an image in memory: *buf (the caller frees it) of *len bytes. */
+int kt_topo_png_bytes(const kt_topo_image *img, unsigned char **buf, size_t *len, kt_err *e);
+
 /* Write an 8-bit RGB PNG atomically (temporary beside the target, renamed on success). */
 int kt_topo_write_png(const char *path, const kt_topo_image *img, kt_err *e);
 

@@ -44,18 +44,24 @@ double kt_curv_meridian_k(const kt_fit *f, double t)
     return num / den;
 }
 
-void kt_curv_simk(const kt_fit *f, kt_kerato *k)
+double kt_curv_harmonic_axis(const double *v)
 {
     double a2 = 0, b2 = 0;
     for (int i = 0; i < KT_CURV_NMERID; i++) {
         double t = i * 180.0 / KT_CURV_NMERID;
-        k->kmer[i] = kt_curv_meridian_k(f, t);
-        a2 += k->kmer[i] * cos(2 * t * DEG);
-        b2 += k->kmer[i] * sin(2 * t * DEG);
+        a2 += v[i] * cos(2 * t * DEG);
+        b2 += v[i] * sin(2 * t * DEG);
     }
     double ax = 0.5 * atan2(b2, a2) / DEG;
     if (ax < 0) ax += 180;
     if (ax >= 180 - 1e-9) ax = 0; /* 179.999... from round-off is 0 */
+    return ax;
+}
+
+void kt_curv_simk(const kt_fit *f, kt_kerato *k)
+{
+    for (int i = 0; i < KT_CURV_NMERID; i++) k->kmer[i] = kt_curv_meridian_k(f, i * 180.0 / KT_CURV_NMERID);
+    double ax = kt_curv_harmonic_axis(k->kmer);
     k->axis_steep = ax;
     k->k_steep = kt_curv_meridian_k(f, ax);
     k->k_flat = kt_curv_meridian_k(f, ax + 90);

@@ -102,6 +102,10 @@ typedef struct kt_kerato {
 
 void kt_curv_simk(const kt_fit *f, kt_kerato *k);
 
+/* The meridian (deg, 0 <= axis < 180) where the second harmonic of v (KT_CURV_NMERID values
+ * at meridians 0, 2, ..., 178 deg) peaks. */
+double kt_curv_harmonic_axis(const double *v);
+
 /* Zone-averaged axial power of meridian t (deg), D. */
 double kt_curv_meridian_k(const kt_fit *f, double t);
 

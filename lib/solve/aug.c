@@ -30,10 +30,11 @@ static int word(const char *s, const char *const *names, int n, int *v)
     return -1;
 }
 
-static const char *const METHODS[] = {NULL, "augmented", "refactor", "cg", "pcg-jacobi"};
+static const char *const METHODS[] = {NULL, "augmented", "refactor", "cg", "pcg-jacobi", "planned"};
 
-int kt_aug_parse_method(const char *s, int *m) { return word(s, METHODS, 5, m); }
-const char *kt_aug_method_name(int m) { return m >= 1 && m <= 4 ? METHODS[m] : "?"; }
+int kt_aug_parse_method(const char *s, int *m) { return word(s, METHODS, 6, m); }
+const char *kt_aug_method_name(int m) { return m >= 1 && m <= 5 ? METHODS[m] : "?"; }
+
 
 int kt_aug_parse_precond(const char *s, int *p)
 {
@@ -117,7 +118,7 @@ static void row_start(kt_aug *A)
     memset(&A->row, 0, sizeof A->row);
     A->row.step = A->step;
     A->row.t_update = A->row.t_step1 = A->row.t_step2 = A->row.t_step3 = 0;
-    A->row.rel_residual = A->row.verify_rel_diff = NAN;
+    A->row.rel_residual = A->row.verify_rel_diff = A->row.t_verify = NAN;
     strcpy(A->row.refactor, "-");
 }
 
@@ -156,9 +157,10 @@ static int solve_method(kt_aug *A, kt_err *e)
 static int verify(kt_aug *A, kt_err *e)
 {
     int n = 3 * A->mesh.nn;
-    double *ref = kt_calloc((size_t)n, sizeof(double), e), relres = NAN;
+    double *ref = kt_calloc((size_t)n, sizeof(double), e), relres = NAN, t0 = kt_now();
     if (!ref) return e->code;
     if (aug_fresh_solve(A, 0, ref, NULL, &relres, e) == KT_OK) {
+        A->row.t_verify = aug_ms(kt_now() - t0);
         double dmax = 0, rmax = 0;
         for (int i = 0; i < n; i++) {
             if (A->outmask && !A->outmask[i]) continue;

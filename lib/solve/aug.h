@@ -26,9 +26,12 @@
 #include "bind.h"
 #include "mesh.h"
 
-enum { KT_AUG_AUGMENTED = 1, KT_AUG_REFACTOR, KT_AUG_CG, KT_AUG_PCG_JACOBI };
+/* KT_AUG_PLANNED (augsolve's default, aug_plan.h) runs in kt_aug_run only: it reads the whole
+ * stream first. kt_aug_create solves a stream step by step with the other methods. */
+enum { KT_AUG_AUGMENTED = 1, KT_AUG_REFACTOR, KT_AUG_CG, KT_AUG_PCG_JACOBI, KT_AUG_PLANNED };
 enum { KT_AUG_PRECOND_NONE = 0, KT_AUG_PRECOND_DIAG, KT_AUG_PRECOND_SPAI, KT_AUG_PRECOND_LOCAL };
-enum { KT_AUG_ORDER_NATURAL = 0, KT_AUG_ORDER_AMD, KT_AUG_ORDER_METIS };
+/* KT_AUG_ORDER_DEFAULT: metis for the planned method, natural for the others */
+enum { KT_AUG_ORDER_DEFAULT = -1, KT_AUG_ORDER_NATURAL = 0, KT_AUG_ORDER_AMD, KT_AUG_ORDER_METIS };
 enum { KT_AUG_FACTOR_SUPERNODAL = 0, KT_AUG_FACTOR_SIMPLICIAL };
 enum { KT_AUG_REFACTOR_NEVER = 0, KT_AUG_REFACTOR_M_ABOVE, KT_AUG_REFACTOR_EVERY,
        KT_AUG_REFACTOR_AUTO };
@@ -86,6 +89,8 @@ typedef struct kt_aug_row {
     double verify_rel_diff;   /* max |u - u_fresh| / max |u_fresh| over the output nodes */
     char refactor[32];        /* "-", "start", "swap" or "swap+start" */
     double nnz_L;             /* nonzeros of the factor used (augmented, refactor), else 0 */
+    double t_verify;          /* ms of the --verify fresh solve (assembly, analysis, factor,
+                               * solve: CHOLMOD's defaults; METIS for planned), NaN without */
 } kt_aug_row;
 
 typedef struct kt_aug kt_aug;

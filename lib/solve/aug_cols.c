@@ -66,12 +66,10 @@ static int add_tet(kt_aug *A, int tet, int a, const int *nodes, int nb, double *
 {
     int nv = kt_tet_nv(A->mesh.order), nd = 3 * nv;
     const int *t = A->mesh.tet + (size_t)tet * nv;
-    double x[30];
-    for (int l = 0; l < nv; l++) memcpy(x + 3 * l, A->mesh.xyz + 3 * (size_t)t[l], 3 * sizeof(double));
     int tag = A->mesh.tet_tag[tet];
     if (tag < 0 || tag >= A->mats.nmat)
         return kt_fail(e, KT_EINPUT, "tet %d has region tag %d without a material", tet + 1, tag);
-    if (kt_fem_tet_stiffness(A->mesh.order, x, A->mats.mat[tag], Ke, e)) return e->code;
+    if (kt_fem_element(&A->mesh, &A->mats, tet, Ke, e)) return e->code;
     int la = local_of(t, nv, a);
     for (int l = 0; l < nv; l++) {
         int s = slot_of(nodes, nb, t[l]);

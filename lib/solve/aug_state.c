@@ -115,6 +115,7 @@ int aug_full_loads(const kt_aug *A, double *f, kt_err *e)
     memset(f, 0, n * sizeof(double));
     for (int k = 0; k < A->npress; k++)
         if (kt_fem_pressure(&A->mesh, A->press[k].tag, A->press[k].p, f, e)) return e->code;
+    if (kt_fem_release_loads(&A->mesh, &A->mats, f, e)) return e->code;
     for (size_t i = 0; i < n; i++) f[i] += A->force[i];
     return KT_OK;
 }
@@ -139,6 +140,7 @@ int aug_state_init(kt_aug *A, const kt_aug_problem *p, kt_err *e)
     A->fix = kt_calloc((size_t)(p->nfix ? p->nfix : 1), sizeof(kt_aug_fixsurf), e);
     if (e->code) return e->code;
     memcpy(A->mats.mat, p->mats->mat, (size_t)p->mats->nmat * sizeof(kt_material));
+    A->mats.td = p->mats->td; /* per-tet data: shared, owned by the caller */
     A->npress = p->npress;
     if (p->npress) memcpy(A->press, p->press, (size_t)p->npress * sizeof(kt_aug_pressure));
     A->nfix = p->nfix;
@@ -354,6 +356,47 @@ static int candidate_loads(kt_aug *A, const int *cand, int nc, double sign, kt_e
     return e->code;
 }
 
+/* ------------------------------------------------------- prestress release */
+
+/* f and fh += sign * the prestress internal forces of the tets the dups move, at the mesh's
+ * current node numbers: taken out before the cut and put back after it, so the forces of a
+ * moved tet go to its new nodes and the traction across the cut faces is released. */
+static int cmp_tet(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+static int moved_release(kt_aug *A, const kt_step *s, double sign, kt_err *e)
+{
+    if (!A->mats.td || !A->mats.td->sig) return KT_OK;
+    int nv = kt_tet_nv(A->mesh.order), cap = 0, n = 0;
+    for (int i = 0; i < s->n; i++)
+        if (s->edit[i].kind == KT_EDIT_DUP) cap += s->edit[i].nel;
+    int *tets = kt_calloc((size_t)(cap ? cap : 1), sizeof(int), e);
+    if (!tets) return e->code;
+    for (int i = 0; i < s->n; i++) /* a tet moved by several dups counts once */
+        if (s->edit[i].kind == KT_EDIT_DUP)
+            for (int j = 0; j < s->edit[i].nel; j++)
+                if (s->edit[i].el[j] >= 0 && s->edit[i].el[j] < A->mesh.ne) tets[n++] = s->edit[i].el[j];
+    qsort(tets, n, sizeof(int), cmp_tet);
+    double fe[30];
+    for (int k = 0; k < n && !e->code; k++) {
+        if (k > 0 && tets[k] == tets[k - 1]) continue;
+        if (kt_fem_element_release(&A->mesh, &A->mats, tets[k], fe, e)) break;
+        const int *t = A->mesh.tet + (size_t)tets[k] * nv;
+        for (int l = 0; l < nv && !e->code; l++)
+            for (int c = 0; c < 3; c++) {
+                int d = 3 * t[l] + c;
+                A->f[d] += sign * fe[3 * l + c];
+                if (!base_fixed(A, d)) A->fh[d] += sign * fe[3 * l + c];
+                if (aug_mark_rhs(A, d, e)) break;
+            }
+    }
+    free(tets);
+    return e->code;
+}
+
 /* ----------------------------------------------------------------- the edits */
 
 /* Nodes of the tets the dups move (before the cut), for the lifting of constrained nodes. */
@@ -435,8 +478,10 @@ static int apply_dups(kt_aug *A, const kt_step *s, int **touched, int *nt, kt_st
     int *pre = NULL, npre = 0, *cand = NULL, nc = 0, nn_old = A->mesh.nn;
     if (moved_nodes(A, s, &pre, &npre, e) || relift_nodes(A, pre, npre, -1.0, e) ||
         loaded_candidates(A, s, &cand, &nc, e) || candidate_loads(A, cand, nc, -1.0, e) ||
+        moved_release(A, s, -1.0, e) ||
         kt_cut_apply(&A->mesh, s, touched, nt, e) || aug_grow(A, A->mesh.nn, e) ||
         update_adjacency(A, s, nn_old, e) || candidate_loads(A, cand, nc, +1.0, e) ||
+        moved_release(A, s, +1.0, e) ||
         relift_nodes(A, *touched, *nt, +1.0, e) || auto_fixes(A, nn_old, fixes, e)) {
         free(pre);
         free(cand);

@@ -69,7 +69,7 @@ static double tip_deflection(const beam *B, int order, int nx, int nz, int *dofs
     double t[3] = {0, B->F / (B->b * B->b), 0};
     traction_loads(&m, ZMAX, t, f);
     kt_material mv[2] = {{0, 0}, B->mat};
-    kt_materials mats = {2, mv};
+    kt_materials mats = {.nmat = 2, .mat = mv};
     double t0 = kt_now();
     int rc = kt_fem_solve(&m, &mats, fixed, NULL, f, u, c, &e);
     *secs = kt_now() - t0;
@@ -98,7 +98,7 @@ static int bench(void)
         kt_mesh m;
         kt_grid_box(&m, cases[k].nx, cases[k].nx, cases[k].nz, cases[k].b, cases[k].b, cases[k].L, &e);
         kt_material mv[2] = {{0, 0}, {1.0, 0.3}};
-        kt_materials mats = {2, mv};
+        kt_materials mats = {.nmat = 2, .mat = mv};
         int n = 3 * m.nn;
         unsigned char *fixed = calloc(n, 1);
         double *f = calloc(n, sizeof(double)), *u = calloc(n, sizeof(double));

@@ -128,7 +128,7 @@ static double patch_error(const kt_mesh *m, const field *F, kt_material mat, cho
     double *g = calloc(n, sizeof(double)), *f = calloc(n, sizeof(double)),
            *u = calloc(n, sizeof(double)), *ex = calloc(n, sizeof(double)), b[3];
     kt_material mats_v[2] = {{0, 0}, mat};
-    kt_materials mats = {2, mats_v};
+    kt_materials mats = {.nmat = 2, .mat = mats_v};
     for (int i = 0; i < m->nn; i++) {
         field_eval(F, m->xyz + 3 * i, ex + 3 * i);
         for (int k = 0; k < 3; k++) {

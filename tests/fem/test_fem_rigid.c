@@ -109,7 +109,7 @@ static void rigid_and_dense(int order, cholmod_common *c)
     make_mesh(&m, order, &e);
     CHECK(e.code == 0 && kt_mesh_check(&m, "jittered", &e) == 0, "%s", e.msg);
     kt_material mat[3] = {{0, 0}, {1.0, 0.3}, {7.0, 0.45}};
-    kt_materials mats = {3, mat};
+    kt_materials mats = {.nmat = 3, .mat = mat};
     cholmod_sparse *K = kt_fem_assemble(&m, &mats, NULL, c, &e);
     CHECK(K != NULL, "assemble P%d: %s", order, e.msg);
     if (!K) {
@@ -257,7 +257,7 @@ static void error_paths(cholmod_common *c)
     kt_mesh m;
     kt_grid_box(&m, 3, 3, 3, 1, 1, 1, &e);
     kt_material mat[2] = {{0, 0}, {1.0, 0.3}};
-    kt_materials mats = {2, mat};
+    kt_materials mats = {.nmat = 2, .mat = mat};
     int n = 3 * m.nn;
 
     /* Tet 5 (1-based) inverted by swapping two of its nodes. */
@@ -272,7 +272,7 @@ static void error_paths(cholmod_common *c)
     m.tet[4 * 4 + 1] = s;
 
     /* A missing material is bad input. */
-    kt_materials few = {1, mat};
+    kt_materials few = {.nmat = 1, .mat = mat};
     kt_err e1 = {0};
     K = kt_fem_assemble(&m, &few, NULL, c, &e1);
     CHECK(!K && e1.code == KT_EINPUT, "region without material: %s", e1.msg);

@@ -169,7 +169,7 @@ static int solve_sphere(const kt_mesh *m, double nu, result *res, cholmod_common
     }
     for (int i = 0; i < n; i++) nfixed += fixed[i];
     kt_material mv[2] = {{0, 0}, {YOUNG, nu}};
-    kt_materials mats = {2, mv};
+    kt_materials mats = {.nmat = 2, .mat = mv};
     if (!e->code && !kt_fem_pressure(m, INNER, PRESS, f, e)) {
         /* The net load on the inner octant is p times its projection on each symmetry plane,
          * a quarter disc pi a^2 / 4, pointing outward (+x, +y, +z); P1 sees polygons. */

@@ -102,6 +102,9 @@ static const char *EYE =
     "  anterior_radius_flat: 7.938 mm\n"
     "  steep_axis: 90 deg\n"
     "  mesh_size: {optical_zone: 0.216 mm, incision: 0.3 mm, cornea: 0.216 mm, sclera: 2.5 mm}\n"
+    "materials:\n" /* the stress-free iteration is isotropic only */
+    "  cornea: {E: 0.3 MPa, nu: 0.49}\n"
+    "  limbus: {E: 1.0 MPa, nu: 0.49}\n"
     "loads:\n"
     "  pressure: {surface: inner, value: 15 mmHg}\n"
     "  reference: loaded\n";

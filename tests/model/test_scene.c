@@ -82,7 +82,13 @@ static void test_eye_plan(void)
     CHECK(s.nmat == 3, "materials %d", s.nmat);
     for (int i = 0; i < s.nmat; i++) CHECK_NEAR(s.mat[i].nu, 0.49, 0, s.mat[i].region);
     CHECK(strcmp(s.mat[0].region, "cornea") == 0, "first region %s", s.mat[0].region);
-    CHECK_NEAR(s.mat[0].E, 0.3, 0, "cornea E, MPa");
+    CHECK(s.mat[0].fibre && s.mat[1].fibre && !s.mat[2].fibre, "cornea and limbus fibre, sclera isotropic");
+    CHECK_NEAR(s.mat[0].E1, 2.0, 0, "cornea E_inplane, MPa");
+    CHECK_NEAR(s.mat[0].E2, 2.0, 0, "cornea E_inplane_2 = E_inplane");
+    CHECK_NEAR(s.mat[0].Gt, 0.047, 1e-15, "cornea G_transverse 47 kPa in MPa");
+    CHECK_NEAR(s.eye.fibre_band, 1.5, 0, "limbal band, mm");
+    CHECK_NEAR(s.eye.fibre_density, 1.91, 0, "limbal density");
+    CHECK(s.reference == KT_REFERENCE_PRESTRESSED, "reference %d", s.reference);
     CHECK(s.nfix == 1 && s.fix[0].mask == 7 && strcmp(s.fix[0].surface, "fixed") == 0, "fixation");
 }
 
@@ -147,6 +153,10 @@ static void test_bad_scenes(void)
     reject("negative", "eye:\n  central_thickness: -0.5 mm\n", 2, 22, "expected a length in [0.05, 5] mm");
     reject("type", "eye: 7.8 mm\n", 1, 6, "eye: expected a mapping");
     reject("nu", "materials:\n  cornea: {E: 0.3 MPa, nu: 0.5}\n", 2, 28, "materials.cornea.nu: expected a number in (-1, 0.5)");
+    reject("gt", "materials:\n  cornea: {model: fibre, G_transverse: 47}\n", 2, 40, "expected a pressure with a unit");
+    reject("fibre_e", "materials:\n  cornea: {model: fibre, E: 2 MPa}\n", 2, 29, "materials.cornea.E: expected E_inplane for model fibre");
+    reject("density", "eye:\n  fibres: {limbal_density: 0.5}\n", 2, 28, "eye.fibres.limbal_density: expected a number");
+    reject("box_fibre", "model: box\nbox: {nodes: [2, 2, 2], size: [1 mm, 1 mm, 1 mm]}\nmaterials:\n  body: {model: fibre, E_inplane: 2 MPa, G_transverse: 47 kPa, nu: 0.49}\n", 4, 17, "expected isotropic");
     reject("E", "materials:\n  cornea: {E: 0.3, nu: 0.49}\n", 2, 15, "expected a pressure with a unit");
     reject("region", "materials:\n  lens: {E: 1 MPa, nu: 0.4}\n", 2, 3, "expected a region of the eye model");
     reject("oz", "eye:\n  optical_zone: 11.5 mm\n", 2, 17, "eye.optical_zone: expected a diameter inside the clear cornea");

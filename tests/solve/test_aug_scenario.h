@@ -32,7 +32,7 @@ static inline int scenario_box(scenario *s, int nx, int ny, int nz, double h, do
     s->nx = nx, s->ny = ny, s->nz = nz, s->h = h;
     if (kt_grid_box(&s->mesh, nx, ny, nz, h * (nx - 1), h * (ny - 1), h * (nz - 1), e)) return -1;
     s->mat[1] = (kt_material){1.0, 0.3};
-    s->mats = (kt_materials){2, s->mat};
+    s->mats = (kt_materials){.nmat = 2, .mat = s->mat};
     s->fixed = calloc(3 * (size_t)s->mesh.nn, 1);
     s->g = calloc(3 * (size_t)s->mesh.nn, sizeof(double));
     const kt_group *zmin = kt_mesh_find_group(&s->mesh, 2, "zmin");

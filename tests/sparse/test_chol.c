@@ -107,7 +107,7 @@ static void test_unsupported_box(cholmod_common *c)
     kt_err e = {0};
     CHECK(kt_grid_box(&m, 3, 3, 3, 2, 2, 2, &e) == 0, "%s", e.msg);
     kt_material mat[2] = {{0, 0}, {1.0, 0.3}};
-    kt_materials mats = {2, mat};
+    kt_materials mats = {.nmat = 2, .mat = mat};
     cholmod_sparse *K = kt_fem_assemble(&m, &mats, NULL, c, &e);
     CHECK(K != NULL, "%s", e.msg);
     if (!K) return;

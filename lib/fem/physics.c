@@ -1,0 +1,116 @@
+/* physics.c: per-tet physics of a scene: fibre matrices from the eye's lamellar frames, the
+ * prestress of the measured geometry under its loads, and the follower-pressure faces. */
+#include "physics.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "eye.h"
+
+void kt_physics_free(kt_physics *ph)
+{
+    free(ph->td.C);
+    free(ph->td.sig);
+    free(ph->td.pface);
+    memset(ph, 0, sizeof *ph);
+}
+
+static const kt_region_mat *region_mat(const kt_scene *s, const char *name)
+{
+    const kt_region_mat *fallback = NULL;
+    for (int i = 0; i < s->nmat; i++) {
+        if (strcmp(s->mat[i].region, name) == 0) return &s->mat[i];
+        if (strcmp(s->mat[i].region, "default") == 0) fallback = &s->mat[i];
+    }
+    return fallback;
+}
+
+/* C of every tet: fibre regions from the frames, the others isotropic. */
+static int fibre_matrices(const kt_scene *s, const kt_mesh *m, const kt_materials *mats,
+                          kt_physics *ph, kt_err *e)
+{
+    double *F = kt_calloc(13 * (size_t)(m->ne ? m->ne : 1), sizeof(double), e);
+    ph->td.C = kt_calloc(36 * (size_t)(m->ne ? m->ne : 1), sizeof(double), e);
+    if (e->code || kt_eye_fibre_frames(&s->eye, m, F, e)) {
+        free(F);
+        return e->code;
+    }
+    for (int t = 0; t < m->ne; t++) {
+        const kt_group *g = kt_mesh_find_tag(m, 3, m->tet_tag[t]);
+        const kt_region_mat *r = g ? region_mat(s, g->name) : NULL;
+        double *C = ph->td.C + 36 * (size_t)t;
+        if (r && r->fibre) {
+            const double *f = F + 13 * (size_t)t;
+            kt_fibre_material fm = {r->E1, r->E2, r->Gt, r->nu};
+            double Ec = (s->eye.fibre_density - 1) * f[12] * 0.5 * (r->E1 + r->E2);
+            kt_fem_fibre_matrix(&fm, f, f + 3, f + 6, f + 9, Ec, C);
+        } else {
+            kt_material mt = mats->mat[m->tet_tag[t]];
+            if (!(mt.E > 0) || !(mt.nu > -1 && mt.nu < 0.5)) {
+                free(F);
+                return kt_fail(e, KT_EINPUT, "tet %d: region without a valid material", t + 1);
+            }
+            kt_fem_iso_matrix(mt.E, mt.nu, C);
+        }
+    }
+    free(F);
+    return KT_OK;
+}
+
+/* Mean of (sig_11 + sig_22 + sig_33) / 2 over the tets within 0.5 mm of the axis near the top:
+ * about the membrane stress p R / 2t of the apex (a check printed by augsolve). */
+static double apex_stress(const kt_mesh *m, const double *sig)
+{
+    int nv = kt_tet_nv(m->order), n = 0;
+    double ztop = -1e300, sum = 0;
+    for (int i = 0; i < m->nn; i++) ztop = fmax(ztop, m->xyz[3 * i + 2]);
+    for (int t = 0; t < m->ne; t++) {
+        const double *x = m->xyz + 3 * (size_t)m->tet[(size_t)t * nv];
+        if (hypot(x[0], x[1]) > 0.5 || x[2] < ztop - 1.0) continue;
+        const double *s = sig + (size_t)t * KT_FEM_NQ * 6;
+        sum += 0.5 * (s[0] + s[1] + s[2]);
+        n++;
+    }
+    return n ? sum / n : NAN;
+}
+
+static int prestress(const kt_mesh *m, const kt_fem_problem *fp, kt_physics *ph,
+                     cholmod_common *c, kt_err *e)
+{
+    size_t n = 3 * (size_t)m->nn;
+    double *f = kt_calloc(n, sizeof(double), e), *u = kt_calloc(n, sizeof(double), e);
+    ph->td.sig = kt_calloc((size_t)(m->ne ? m->ne : 1) * KT_FEM_NQ * 6, sizeof(double), e);
+    ph->td.pface = kt_calloc(4 * (size_t)(m->ne ? m->ne : 1), sizeof(double), e);
+    if (!e->code) kt_fem_problem_loads(fp, m, 1.0, f, e);
+    for (int k = 0; k < fp->npress && !e->code; k++)
+        kt_fem_pressure_faces(m, fp->press[k].tag, fp->press[k].p, ph->td.pface, e);
+    /* the material stiffness only: td holds C (or nothing) until sig is filled */
+    kt_fem_tetdata mat_only = {m->ne, ph->td.C, NULL, NULL};
+    kt_materials mm = fp->mats;
+    mm.td = ph->td.C ? &mat_only : NULL;
+    if (!e->code && kt_fem_solve(m, &mm, fp->fixed, fp->g, f, u, c, e) == KT_OK &&
+        kt_fem_stress(m, &mm, u, ph->td.sig, e) == KT_OK) {
+        ph->prestressed = 1;
+        ph->sig_apex = apex_stress(m, ph->td.sig);
+    }
+    free(f);
+    free(u);
+    return e->code;
+}
+
+int kt_physics_build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                     cholmod_common *c, kt_err *e)
+{
+    memset(ph, 0, sizeof *ph);
+    double t0 = kt_now();
+    ph->td.ne = m->ne;
+    for (int i = 0; i < s->nmat; i++) ph->fibre |= s->mat[i].fibre;
+    if (ph->fibre && s->model != KT_MODEL_EYE)
+        return kt_fail(e, KT_EINPUT, "%s: model fibre materials need the eye model", s->path);
+    if (ph->fibre && fibre_matrices(s, m, &fp->mats, ph, e)) return e->code;
+    if (s->reference == KT_REFERENCE_PRESTRESSED && prestress(m, fp, ph, c, e)) return e->code;
+    fp->mats.td = (ph->td.C || ph->td.sig) ? &ph->td : NULL;
+    ph->t_build = kt_now() - t0;
+    return KT_OK;
+}

@@ -1,0 +1,28 @@
+/* physics.h: the per-tet physics of a scene on its mesh (keratome-scene(5), MECHANICS): the
+ * lamellar (fibre) material in its local frames, and, for loads.reference prestressed, the
+ * tangent stiffness of the pressurized measured geometry: the prestress of the loads (stress
+ * stiffness, and its release across cut faces) and the follower pressure's load stiffness. */
+#ifndef KT_PHYSICS_H
+#define KT_PHYSICS_H
+
+#include "bind.h"
+#include "fem.h"
+#include "scene.h"
+
+typedef struct kt_physics {
+    kt_fem_tetdata td;  /* owned; mats->td points here */
+    int fibre;          /* some region is model fibre */
+    int prestressed;    /* sig and pface are set */
+    double t_build;     /* seconds (prestress solve included) */
+    double sig_apex;    /* mean in-plane prestress at the apex tets, MPa (report) */
+} kt_physics;
+
+/* Fill ph for scene s on mesh m, bound as problem fp (kt_fem_bind), and set fp->mats.td =
+ * &ph->td. With loads.reference prestressed: sig = the stress of one direct solve of the
+ * material stiffness under fp's pressures with its Dirichlet data on the measured geometry, and
+ * pface = the pressures as follower loads. Otherwise only the fibre matrices (if any). */
+int kt_physics_build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                     cholmod_common *c, kt_err *e);
+void kt_physics_free(kt_physics *ph);
+
+#endif

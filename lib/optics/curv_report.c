@@ -1,0 +1,585 @@
+/* curv_report.c: RUN/report.html, the teaching page of a curvature run (curv_report.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "curv_report.h"
+#include "html.h"
+#include "svg.h"
+
+#define DEG KT_CURV_DEG
+
+static const char CSS[] =
+    "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;color:#1d232a;background:#f4f5f7;margin:0}\n"
+    "main{max-width:1180px;margin:0 auto;padding:18px 26px 40px}\n"
+    "header{background:#18324a;color:#fff;padding:18px 26px}\n"
+    "header h1{margin:0;font-size:24px;font-weight:600}header p{margin:4px 0 0;color:#c9d6e3;font-size:14px}\n"
+    "h2{font-size:18px;margin:28px 0 8px;border-bottom:2px solid #d5dae0;padding-bottom:4px}\n"
+    ".cards{display:flex;flex-wrap:wrap;gap:12px;margin-top:16px}\n"
+    ".card{background:#fff;border-radius:8px;padding:10px 14px;box-shadow:0 1px 3px rgba(0,0,0,.12);min-width:150px}\n"
+    ".card b{display:block;font-size:20px}.card span{font-size:12px;color:#5b6670}\n"
+    ".row{display:flex;flex-wrap:wrap;gap:16px}\n"
+    "figure{background:#fff;margin:0;padding:10px 12px;border-radius:8px;box-shadow:0 1px 3px rgba(0,0,0,.12);flex:1 1 420px}\n"
+    "figure img,figure svg{width:100%;height:auto;display:block}\n"
+    "figcaption{font-size:13px;color:#3d4750;margin-top:6px;line-height:1.4}\n"
+    "table{border-collapse:collapse;font-size:13px;background:#fff}td,th{padding:4px 10px;border-bottom:1px solid #e2e6ea;text-align:left}\n"
+    "th{background:#eef1f4}td.n{text-align:right;font-variant-numeric:tabular-nums}\n"
+    "pre{background:#fff;padding:8px;font-size:12px;overflow:auto;border-radius:6px}\n"
+    "svg text{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;fill:#1d232a}\n"
+    ".tick{font-size:11px}.axtitle{font-size:12px}.lbl{font-size:12px}.small{font-size:10px;fill:#5b6670}\n"
+    ".grid{stroke:#e4e7eb;stroke-width:1}.zero{stroke:#8a939b;stroke-width:1}.frame{fill:none;stroke:#8a939b}\n"
+    ".sclera{fill:#fbfaf6;stroke:none}.cornea{fill:#e8f1f8;stroke:#7f97ad;stroke-width:2}\n"
+    ".merid{stroke:#b8c3cc;stroke-width:1}.ring{fill:none;stroke:#6b7a88;stroke-width:1.2;stroke-dasharray:5 4}\n"
+    ".oz{fill:none;stroke:#3a7d44;stroke-width:1.2;stroke-dasharray:2 3}.kzone{fill:none;stroke:#8a939b;stroke-dasharray:2 2}\n"
+    ".inc{fill:none;stroke:#c0392b;stroke-width:7;stroke-linecap:round}\n"
+    ".steep{stroke:#e67e22;stroke-width:2.5;stroke-dasharray:10 5}.incm{stroke:#c0392b;stroke-width:1.2;stroke-dasharray:3 3}\n"
+    ".s1 polyline{fill:none;stroke:#1f6fb4;stroke-width:2.2}.s1 circle{fill:#1f6fb4}\n"
+    ".s2 polyline{fill:none;stroke:#d35400;stroke-width:2.2}.s2 circle{fill:#d35400}\n"
+    ".s3 polyline{fill:none;stroke:#2c3e50;stroke-width:2.2;stroke-dasharray:6 3}.s3 circle{fill:#2c3e50}\n"
+    ".s4 polyline{fill:none;stroke:#8e44ad;stroke-width:2.2}.s4 circle{fill:#8e44ad}\n"
+    ".s5 polyline{fill:none;stroke:#16a085;stroke-width:2.2;stroke-dasharray:6 3}.s5 circle{fill:#16a085}\n"
+    ".v-pre line{stroke:#7f8c8d;stroke-width:3}.v-pre polygon{fill:#7f8c8d}\n"
+    ".v-post line{stroke:#2c3e50;stroke-width:3}.v-post polygon{fill:#2c3e50}\n"
+    ".v-tia line{stroke:#27ae60;stroke-width:3;stroke-dasharray:7 4}.v-tia polygon{fill:#27ae60}\n"
+    ".v-sia line{stroke:#c0392b;stroke-width:3}.v-sia polygon{fill:#c0392b}\n"
+    ".v-dv line{stroke:#e67e22;stroke-width:2;stroke-dasharray:3 3}.v-dv polygon{fill:#e67e22}\n"
+    ".polar{fill:none;stroke:#dfe3e7}.sec-ref{fill:none;stroke:#c5ccd3;stroke-width:.5}\n"
+    ".sec-def{fill:#f3d9b1;stroke:#9a7b4f;stroke-width:.35}.sec-axis{stroke:#5b6670;stroke-width:1}\n"
+    ".note{font-size:13px;color:#3d4750}\n";
+
+/* ---------------------------------------------------------------- small helpers */
+
+static double axis180(double a)
+{
+    if (isnan(a)) return a;
+    a = fmod(fmod(a, 180) + 180, 180);
+    return a >= 179.95 ? 0 : a;
+}
+
+static void cell(FILE *f, const char *fmt, double v)
+{
+    if (isnan(v)) fputs("<td class=\"n\">&ndash;</td>", f);
+    else {
+        fputs("<td class=\"n\">", f);
+        fprintf(f, fmt, v);
+        fputs("</td>", f);
+    }
+}
+
+static void card(FILE *f, const char *value, const char *what)
+{
+    fputs("<div class=\"card\"><b>", f);
+    kt_html_text(f, value);
+    fputs("</b><span>", f);
+    kt_html_text(f, what);
+    fputs("</span></div>\n", f);
+}
+
+double kt_report_exaggeration(double max_disp, double target)
+{
+    if (!(max_disp > 0)) return 1;
+    double raw = target / max_disp, p = pow(10, floor(log10(raw))), m = raw / p;
+    double f = (m >= 5 ? 5 : m >= 2 ? 2 : 1) * p;
+    return f < 1 ? 1 : f;
+}
+
+/* ---------------------------------------------------------------- maps */
+
+typedef struct two_fits {
+    const kt_fit *pre, *post;
+} two_fits;
+
+static double axial_of(const void *ctx, double x, double y) { return kt_fit_axial_power(ctx, x, y); }
+
+/* Tangential (instantaneous) power: n - 1 times the normal curvature of the radial section
+ * through the apex, -s'(r) / (1 + s^2)^1.5 with s the radial slope (central differences). */
+static double tangential_of(const void *ctx, double x, double y)
+{
+    const kt_fit *f = ctx;
+    double dx = x - f->ax, dy = y - f->ay, r = hypot(dx, dy), h = 1e-3, z, zx, zy;
+    if (r < 1e-9) return kt_fit_axial_power(f, x, y);
+    double ux = dx / r, uy = dy / r, s[3];
+    for (int k = -1; k <= 1; k++) {
+        kt_fit_eval(f, x + k * h * ux, y + k * h * uy, &z, &zx, &zy);
+        s[k + 1] = zx * ux + zy * uy;
+    }
+    return KT_CURV_N_KERATO * -(s[2] - s[0]) / (2 * h) / pow(1 + s[1] * s[1], 1.5);
+}
+
+static double diff_of(const void *ctx, double x, double y)
+{
+    const two_fits *t = ctx;
+    return kt_fit_axial_power(t->post, x, y) - kt_fit_axial_power(t->pre, x, y);
+}
+
+/* A rendered map as an <img>. */
+static int map_img(FILE *f, const kt_topo_scale *s, const kt_topo_map *m, kt_topo_power_fn fn, const void *ctx,
+                   const char *alt, kt_err *e)
+{
+    kt_topo_image img = {0, 0, NULL};
+    unsigned char *png = NULL;
+    size_t len = 0;
+    int rc = kt_topo_render(s, m, fn, ctx, &img, e);
+    if (rc == KT_OK) rc = kt_topo_png_bytes(&img, &png, &len, e);
+    if (rc == KT_OK && kt_html_img(f, "image/png", png, len, alt, "map") != 0)
+        rc = kt_fail(e, KT_ERUN, "report: write error");
+    free(png);
+    kt_topo_image_free(&img);
+    return rc;
+}
+
+static void map_frame(kt_topo_map *m, const kt_fit *f, double rad, double zone)
+{
+    memset(m, 0, sizeof *m);
+    m->cx = f->ax, m->cy = f->ay, m->radius = rad, m->zone = zone;
+}
+
+static int maps(FILE *f, const kt_report *r, kt_err *e)
+{
+    const kt_report_step *s0 = r->step, *sl = r->step + r->nstep - 1;
+    kt_topo_map m;
+    int rc;
+    fputs("<h2>2. Axial power before and after</h2>\n<div class=\"row\">\n<figure>", f);
+    map_frame(&m, r->map_pre, r->rad_pre, r->zone);
+    snprintf(m.title[0], sizeof m.title[0], "PRE-OP AXIAL POWER (D)  STEP 0");
+    snprintf(m.title[1], sizeof m.title[1], "SIM K %.2f@%.0f\xC2\xB0 / %.2f@%.0f\xC2\xB0  CYL %.2f", s0->k.k_steep,
+             axis180(s0->k.axis_steep), s0->k.k_flat, axis180(s0->k.axis_steep + 90), s0->k.cyl);
+    if ((rc = map_img(f, r->scale, &m, axial_of, r->map_pre, "pre-operative axial power map", e))) return rc;
+    fprintf(f, "<figcaption><b>Pre-operative</b> axial (sagittal) power, %.1f mm map centred on the apex; "
+               "dashed circle: the %.0f mm keratometry zone.</figcaption></figure>\n<figure>",
+            2 * r->rad_pre, r->zone);
+    map_frame(&m, r->map_post, r->rad_post, r->zone);
+    snprintf(m.title[0], sizeof m.title[0], "FINAL AXIAL POWER (D)  STEP %d", r->nstep - 1);
+    snprintf(m.title[1], sizeof m.title[1], "SIM K %.2f@%.0f\xC2\xB0 / %.2f@%.0f\xC2\xB0  CYL %.2f", sl->k.k_steep,
+             axis180(sl->k.axis_steep), sl->k.k_flat, axis180(sl->k.axis_steep + 90), sl->k.cyl);
+    if ((rc = map_img(f, r->scale, &m, axial_of, r->map_post, "final axial power map", e))) return rc;
+    fprintf(f, "<figcaption><b>After the last step</b>, same absolute scale (%.1f&ndash;%.1f D, %.1f D bins): a colour "
+               "means the same power on both maps.</figcaption></figure>\n</div>\n",
+            r->scale->lo[0], r->scale->hi[r->scale->n - 1], r->scale->hi[0] - r->scale->lo[0]);
+
+    fputs("<h2>3. Tangential power and the change</h2>\n<div class=\"row\">\n<figure>", f);
+    map_frame(&m, r->map_post, r->rad_post, r->zone);
+    snprintf(m.title[0], sizeof m.title[0], "FINAL TANGENTIAL POWER (D)  STEP %d", r->nstep - 1);
+    snprintf(m.title[1], sizeof m.title[1], "LOCAL CURVATURE ALONG EACH RADIUS");
+    if ((rc = map_img(f, r->scale, &m, tangential_of, r->map_post, "final tangential power map", e))) return rc;
+    fputs("<figcaption><b>Tangential</b> (instantaneous) power after surgery, same scale: the local curvature "
+          "of each radial profile, so local changes show sharper than on the axial map.</figcaption></figure>\n"
+          "<figure>", f);
+    two_fits tf = {r->map_pre, r->map_post};
+    map_frame(&m, r->map_pre, fmin(r->rad_pre, r->rad_post), r->zone);
+    snprintf(m.title[0], sizeof m.title[0], "DIFFERENCE: FINAL - PRE-OP (D)");
+    snprintf(m.title[1], sizeof m.title[1], "AXIAL POWER, SAME POINTS IN SPACE");
+    if ((rc = map_img(f, r->diff_scale, &m, diff_of, &tf, "difference map, final minus pre-operative", e))) return rc;
+    fputs("<figcaption><b>Difference map</b>, final minus pre-operative axial power at the same place: blue "
+          "flattened, red steepened. The incised meridian flattens, the one at 90&deg; to it steepens (coupling)."
+          "</figcaption></figure>\n</div>\n", f);
+    return KT_OK;
+}
+
+/* ---------------------------------------------------------------- eye diagram */
+
+static void eye_diagram(FILE *f, const kt_report *r)
+{
+    const double W = 460, C = 230;
+    const kt_eye *eye = r->plan ? &r->plan->scene.eye : NULL;
+    double wtw = eye && eye->wtw > 0 ? eye->wtw : 11.7;
+    double s = 170 / (0.5 * wtw); /* px per mm */
+    kt_svg_begin(f, W, W, "the plan on a frontal view of the eye");
+    fprintf(f, "<rect class=\"sclera\" x=\"0\" y=\"0\" width=\"%.0f\" height=\"%.0f\"/>\n", W, W);
+    kt_svg_circle(f, C, C, 0.5 * wtw * s, "cornea");
+    for (int t = 0; t < 180; t += 30)
+        kt_svg_line(f, C + 205 * cos(t * DEG), C - 205 * sin(t * DEG), C - 205 * cos(t * DEG), C + 205 * sin(t * DEG), "merid");
+    for (int t = 0; t < 360; t += 30)
+        kt_svg_text(f, C + 218 * cos(t * DEG), C - 218 * sin(t * DEG) + 4, "middle", "tick", "%d\xC2\xB0", t);
+    kt_svg_circle(f, C, C, 0.5 * r->zone * s, "kzone");
+    if (eye && eye->optical_zone > 0) {
+        kt_svg_circle(f, C, C, 0.5 * eye->optical_zone * s, "oz");
+        double ro = 0.5 * eye->optical_zone * s;
+        kt_svg_text(f, C + 8, C + ro - 8, "start", "small", "refined mesh zone %.1f mm", eye->optical_zone);
+    }
+    const kt_report_step *s0 = r->step;
+    double ax = s0->k.axis_steep;
+    kt_svg_line(f, C + 200 * cos(ax * DEG), C - 200 * sin(ax * DEG), C - 200 * cos(ax * DEG), C + 200 * sin(ax * DEG), "steep");
+    kt_svg_text(f, C + 8 + 100 * cos(ax * DEG), C - 100 * sin(ax * DEG), "start", "lbl", "steep %.0f\xC2\xB0 (%.2f D)",
+                axis180(ax), s0->k.k_steep);
+    double ring = NAN;
+    for (int i = 0; r->plan && i < r->plan->ninc; i++) {
+        const kt_incision *in = r->plan->inc + i;
+        ring = in->diameter;
+        kt_svg_circle(f, C, C, 0.5 * in->diameter * s, "ring");
+        for (int side = 0; side <= in->paired; side++) {
+            double m = in->meridian + 180 * side;
+            kt_svg_arc(f, C, C, 0.5 * in->diameter * s, m - 0.5 * in->arc, m + 0.5 * in->arc, "inc");
+        }
+    }
+    if (!isnan(ring))
+        kt_svg_text(f, C + 0.5 * ring * s * cos(-50 * DEG) + 6, C + 0.5 * ring * s * sin(50 * DEG) + 12, "start", "small",
+                    "incisions at OZ %.1f mm", ring);
+    kt_svg_line(f, C - 5, C, C + 5, C, "zero");
+    kt_svg_line(f, C, C - 5, C, C + 5, "zero");
+    kt_svg_end(f);
+}
+
+static void plan_section(FILE *f, const kt_report *r)
+{
+    fputs("<h2>1. The plan on the eye</h2>\n<div class=\"row\">\n<figure style=\"flex:0 1 460px\">", f);
+    eye_diagram(f, r);
+    fputs("<figcaption>The eye seen from the front, as the examiner sees it (TABO: 0&deg; at the examiner's right, "
+          "angles counter-clockwise). Red arcs: the incisions. Orange dashed line: the pre-operative steep meridian, measured "
+          "on step 0. Grey dashed circles: the incision ring (its optical-zone diameter, OZ) and the keratometry "
+          "zone; green dotted: the zone where the scene refines the mesh.</figcaption></figure>\n<div style=\"flex:1 1 300px\"><table>\n"
+          "<tr><th>incision</th><th>centre</th><th>arc</th><th>ring</th><th>depth</th><th>blade</th></tr>\n", f);
+    static const char *DIR[] = {"clockwise", "counter-clockwise", "centre out"};
+    for (int i = 0; r->plan && i < r->plan->ninc; i++) {
+        const kt_incision *in = r->plan->inc + i;
+        fprintf(f, "<tr><td>%d%s</td>", i + 1, in->paired ? " (paired)" : "");
+        fprintf(f, "<td class=\"n\">%.0f&deg;%s</td>", in->meridian, in->paired ? " and opposite" : "");
+        fprintf(f, "<td class=\"n\">%.0f&deg; (%.2f mm)</td>", in->arc, in->arc * DEG * 0.5 * in->diameter);
+        fprintf(f, "<td class=\"n\">%.1f mm</td>", in->diameter);
+        if (in->depth_fraction > 0) fprintf(f, "<td class=\"n\">%.0f%%</td>", 100 * in->depth_fraction);
+        else fprintf(f, "<td class=\"n\">%.0f &micro;m</td>", 1000 * in->depth);
+        fprintf(f, "<td>%s, %.1f&deg;/step</td></tr>\n", DIR[in->direction < 0 || in->direction > 2 ? 0 : in->direction],
+                in->prog.degrees_per_step);
+    }
+    fputs("</table>\n", f);
+    if (r->has_target)
+        fprintf(f, "<p class=\"note\">Target: correct %.2f D of astigmatism at %.0f&deg;; the target induced "
+                   "astigmatism (TIA) is %.2f D at %.0f&deg;.</p>\n",
+                r->tia.mag, axis180(r->tia.axis + 90), r->tia.mag, axis180(r->tia.axis));
+    fprintf(f, "<p class=\"note\">Incised meridian for flattening: %.1f&deg;. Keratometry: %s fit over the central "
+               "%.0f mm, K = 337.5 / R (keratometric index 1.3375).</p></div>\n</div>\n",
+            r->meridian, r->fit_name, r->zone);
+}
+
+/* ---------------------------------------------------------------- plots against step */
+
+static int step_plot(FILE *f, const kt_report *r, const char *label, int nser, const double *const *y,
+                     const char *const *name, const char *ytitle, kt_err *e)
+{
+    const double W = 560, H = 300;
+    int n = r->nstep;
+    double lo = 0, hi = 0;
+    for (int k = 0; k < nser; k++)
+        for (int i = 0; i < n; i++)
+            if (isfinite(y[k][i])) lo = fmin(lo, y[k][i]), hi = fmax(hi, y[k][i]);
+    kt_svg_nice_range(&lo, &hi, 5);
+    kt_svg_plot p = {70, 12, W - 90, H - 70, 0, n > 1 ? n - 1 : 1, lo, hi};
+    double *x = kt_calloc(n > 0 ? n : 1, sizeof(double), e);
+    if (!x) return e->code;
+    for (int i = 0; i < n; i++) x[i] = i;
+    kt_svg_begin(f, W, H, label);
+    kt_svg_axes(f, &p, "%.0f", "%.2f", "", ytitle);
+    int arcs = n > 0 && isfinite(r->step[n - 1].arc);
+    double sx = kt_svg_nice_step(p.x1 - p.x0, 6);
+    for (double v = 0; arcs && v <= p.x1 + 1e-9; v += sx)
+        kt_svg_text(f, kt_svg_px(&p, v), p.y + p.h + 30, "middle", "small", "%.0f\xC2\xB0", r->step[(int)lround(v)].arc);
+    kt_svg_text(f, p.x + p.w / 2, p.y + p.h + 50, "middle", "axtitle",
+                arcs ? "step (above) and degrees of arc opened per incision (below)" : "step");
+    for (int k = 0; k < nser; k++) {
+        char cls[8];
+        snprintf(cls, sizeof cls, "s%d", (k % 5) + 1); /* the style sheet has series s1..s5 */
+        kt_svg_series(f, &p, x, y[k], n, cls);
+        double ly = p.y + 18 + 17 * k, lx = p.x + 12;
+        fprintf(f, "<g class=\"%s\"><polyline points=\"%.1f,%.1f %.1f,%.1f\"/></g>\n", cls, lx, ly - 4, lx + 22, ly - 4);
+        kt_svg_text(f, lx + 27, ly, "start", "lbl", "%s", name[k]);
+    }
+    kt_svg_end(f);
+    free(x);
+    return KT_OK;
+}
+
+static int step_plots(FILE *f, const kt_report *r, kt_err *e)
+{
+    int n = r->nstep;
+    double *v = kt_calloc((size_t)5 * n, sizeof(double), e);
+    if (!v) return e->code;
+    double *fl = v, *st = v + n, *sia = v + 2 * n, *cyl = v + 3 * n, *tcyl = v + 4 * n;
+    for (int i = 0; i < n; i++) {
+        fl[i] = r->step[i].flat, st[i] = r->step[i].steep, sia[i] = r->step[i].va.sia.mag;
+        cyl[i] = r->step[i].k.cyl, tcyl[i] = r->step[i].tot.tot_cyl;
+    }
+    fputs("<h2>4. The cut, step by step</h2>\n<div class=\"row\">\n<figure>", f);
+    const double *y1[] = {fl, st, sia};
+    const char *n1[] = {"flattening of the incised meridian", "steepening at 90\xC2\xB0", "SIA"};
+    int rc = step_plot(f, r, "flattening, steepening and SIA against step", 3, y1, n1, "dioptres", e);
+    fprintf(f, "<figcaption><b>Flattening</b> of the incised meridian (%.0f&deg;) and <b>steepening</b> of the "
+               "orthogonal one, both against step 0, and the magnitude of the <b>surgically induced "
+               "astigmatism</b> (SIA, vector difference). Their ratio is the coupling ratio.</figcaption></figure>\n<figure>",
+            r->meridian);
+    int have_tot = isfinite(tcyl[0]);
+    const double *y2[] = {cyl, tcyl};
+    const char *n2[] = {"anterior (keratometric) cylinder", "total corneal cylinder"};
+    if (rc == KT_OK) rc = step_plot(f, r, "corneal cylinder against step", have_tot ? 2 : 1, y2, n2, "cylinder (D)", e);
+    fputs("<figcaption><b>Corneal cylinder</b> as the keratometer reads it (anterior surface, index 1.3375)", f);
+    if (have_tot)
+        fprintf(f, " and the <b>total corneal astigmatism</b> (anterior + posterior surface, thick lens, indices "
+                   "%.3f / %.3f / %.3f)", r->n->air, r->n->cornea, r->n->aqueous);
+    fputs(".</figcaption></figure>\n</div>\n", f);
+    free(v);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- double-angle plot */
+
+static void vec(FILE *f, double cx, double cy, double scale, kt_astig a, const char *cls)
+{
+    if (!isfinite(a.mag) || !isfinite(a.axis)) return;
+    double xy[2];
+    kt_astig_xy(a, xy);
+    kt_svg_arrow(f, cx, cy, cx + scale * xy[0], cy - scale * xy[1], 12, cls);
+}
+
+static void double_angle(FILE *f, const kt_report *r)
+{
+    const kt_report_step *s0 = r->step, *sl = r->step + r->nstep - 1;
+    kt_astig pre = {s0->k.cyl, s0->k.axis_steep}, post = {sl->k.cyl, sl->k.axis_steep};
+    double m = fmax(fmax(pre.mag, post.mag), sl->va.sia.mag);
+    if (r->has_target) m = fmax(m, r->tia.mag);
+    double lo = 0, hi = m > 0 ? m : 1;
+    kt_svg_nice_range(&lo, &hi, 4);
+    const double W = 460, C = 225, R = 165, sc = R / hi;
+    kt_svg_begin(f, W, W + 36, "double-angle plot of the astigmatism vectors");
+    double step = kt_svg_nice_step(hi, 4);
+    for (double v = step; v <= hi + 1e-9; v += step) {
+        kt_svg_circle(f, C, C, v * sc, "polar");
+        kt_svg_text(f, C + 3, C - v * sc - 3, "start", "small", "%.2g D", v);
+    }
+    for (int a = 0; a < 180; a += 15) {
+        double t = 2 * a * DEG;
+        kt_svg_line(f, C, C, C + R * cos(t), C - R * sin(t), a % 45 ? "grid" : "zero");
+        if (a % 45 == 0) kt_svg_text(f, C + (R + 18) * cos(t), C - (R + 18) * sin(t) + 4, "middle", "lbl", "%d\xC2\xB0", a);
+    }
+    vec(f, C, C, sc, pre, "v-pre");
+    vec(f, C, C, sc, post, "v-post");
+    if (r->has_target) vec(f, C, C, sc, r->tia, "v-tia");
+    vec(f, C, C, sc, sl->va.sia, "v-sia");
+    if (r->has_target) vec(f, C, C, sc, sl->va.dv, "v-dv");
+    static const char *CLS[] = {"v-pre", "v-post", "v-tia", "v-sia", "v-dv"},
+                      *NAME[] = {"pre-op", "post-op", "target induced (TIA)", "surgically induced (SIA)", "difference vector"};
+    for (int k = 0, j = 0; k < 5; k++) {
+        if (!r->has_target && (k == 2 || k == 4)) continue;
+        double lx = 10 + (j % 2) * 225, ly = W - 28 + (j / 2) * 18;
+        kt_svg_arrow(f, lx, ly - 4, lx + 26, ly - 4, 7, CLS[k]);
+        kt_svg_text(f, lx + 32, ly, "start", "small", "%s", NAME[k]);
+        j++;
+    }
+    kt_svg_text(f, 8, 16, "start", "lbl", "DOUBLE-ANGLE PLOT: a cylinder at axis a is drawn at 2a");
+    kt_svg_end(f);
+}
+
+static void alpins_table(FILE *f, const kt_report *r)
+{
+    const kt_report_step *s0 = r->step, *sl = r->step + r->nstep - 1;
+    const kt_alpins *a = &sl->va;
+    fputs("<table>\n<tr><th>vector / index</th><th>value</th><th>axis</th></tr>\n", f);
+    fputs("<tr><td>pre-op astigmatism (step 0)</td>", f);
+    cell(f, "%.2f D", s0->k.cyl), cell(f, "%.1f&deg;", axis180(s0->k.axis_steep));
+    fprintf(f, "</tr>\n<tr><td>post-op astigmatism (step %d)</td>", r->nstep - 1);
+    cell(f, "%.2f D", sl->k.cyl), cell(f, "%.1f&deg;", axis180(sl->k.axis_steep));
+    fputs("</tr>\n<tr><td>target induced astigmatism, TIA</td>", f);
+    cell(f, "%.2f D", a->tia.mag), cell(f, "%.1f&deg;", axis180(a->tia.axis));
+    fputs("</tr>\n<tr><td>surgically induced astigmatism, SIA</td>", f);
+    cell(f, "%.2f D", a->sia.mag), cell(f, "%.1f&deg;", axis180(a->sia.axis));
+    fputs("</tr>\n<tr><td>difference vector, DV = TIA &minus; SIA</td>", f);
+    cell(f, "%.2f D", a->dv.mag), cell(f, "%.1f&deg;", axis180(a->dv.axis));
+    fputs("</tr>\n<tr><td>correction index, CI = |SIA| / |TIA|</td>", f);
+    cell(f, "%.2f", a->ci);
+    fputs("<td></td></tr>\n<tr><td>magnitude of error, ME = |SIA| &minus; |TIA|</td>", f);
+    cell(f, "%+.2f D", a->me);
+    fputs("<td></td></tr>\n<tr><td>angle of error, AE = axis SIA &minus; axis TIA</td>", f);
+    cell(f, "%+.1f&deg;", a->ae);
+    fputs("<td></td></tr>\n<tr><td>index of success, IOS = |DV| / |TIA|</td>", f);
+    cell(f, "%.2f", a->ios);
+    fputs("<td></td></tr>\n<tr><td>flattening index, FI = flattening / |TIA|</td>", f);
+    cell(f, "%.2f", r->has_target && r->tia.mag > 0 ? sl->flat / r->tia.mag : NAN);
+    fputs("<td></td></tr>\n<tr><td>coupling ratio = flattening / steepening</td>", f);
+    cell(f, "%.2f", fabs(sl->steep) > 1e-9 ? sl->flat / sl->steep : NAN);
+    fputs("<td></td></tr>\n</table>\n", f);
+    fputs("<p class=\"note\">Alpins NA, J Cataract Refract Surg 1993;19:524-533 and 2001;27:31-49. CI &gt; 1: "
+          "overcorrection; AE &gt; 0: the treatment acted counter-clockwise of its intended axis; IOS 0 is "
+          "perfect.</p>\n", f);
+}
+
+/* ---------------------------------------------------------------- section */
+
+static void section_fig(FILE *f, const kt_report *r)
+{
+    const kt_section *s = r->section;
+    double F = kt_report_exaggeration(s->max_disp, 0.04 * (s->r1 - s->r0));
+    double zlo = INFINITY, zhi = -INFINITY, rl = INFINITY, rh = -INFINITY, ztop = -INFINITY;
+    for (int i = 0; i < s->n; i++)
+        for (int k = 0; k < s->nv[i]; k++) {
+            const double *b = s->base + 8 * i + 2 * k, *d = s->def + 8 * i + 2 * k;
+            for (double g = 0; g <= F; g += F) {
+                zlo = fmin(zlo, b[1] + g * d[1]), zhi = fmax(zhi, b[1] + g * d[1]);
+                rl = fmin(rl, b[0] + g * d[0]), rh = fmax(rh, b[0] + g * d[0]);
+            }
+            if (fabs(b[0] - 0.5 * (s->r0 + s->r1)) < 0.1) ztop = fmax(ztop, b[1]);
+        }
+    if (!(zhi > zlo) || !(rh > rl)) zlo = 0, zhi = 1, rl = s->r0, rh = s->r1;
+    zlo -= 0.05, zhi += 0.1, rl -= 0.05, rh += 0.05;
+    const double W = 900;
+    double pxmm = (W - 90) / (rh - rl), H = (zhi - zlo) * pxmm + 60;
+    kt_svg_plot p = {60, 10, W - 90, (zhi - zlo) * pxmm, rl, rh, zlo, zhi};
+    fputs("<h2>6. Through the wound</h2>\n<figure>", f);
+    kt_svg_begin(f, W, H, "meridional section through an incision, displacement exaggerated");
+    kt_svg_axes(f, &p, "%.1f", "%.1f", "distance from the axis along the meridian (mm)", "height z (mm)");
+    double xy[8];
+    for (int i = 0; i < s->n; i++) {
+        for (int k = 0; k < s->nv[i]; k++)
+            xy[2 * k] = kt_svg_px(&p, s->base[8 * i + 2 * k]), xy[2 * k + 1] = kt_svg_py(&p, s->base[8 * i + 2 * k + 1]);
+        kt_svg_poly(f, xy, s->nv[i], 1, "sec-ref");
+    }
+    for (int i = 0; i < s->n; i++) {
+        for (int k = 0; k < s->nv[i]; k++) {
+            const double *b = s->base + 8 * i + 2 * k, *d = s->def + 8 * i + 2 * k;
+            xy[2 * k] = kt_svg_px(&p, b[0] + F * d[0]), xy[2 * k + 1] = kt_svg_py(&p, b[1] + F * d[1]);
+        }
+        kt_svg_poly(f, xy, s->nv[i], 1, "sec-def");
+    }
+    if (isfinite(ztop)) {
+        double X = kt_svg_px(&p, 0.5 * (s->r0 + s->r1)), Y = kt_svg_py(&p, ztop);
+        kt_svg_arrow(f, X + 40, Y - 40, X + 4, Y - 4, 10, "v-sia");
+        kt_svg_text(f, X + 44, Y - 44, "start", "lbl", "incision (before surgery)");
+    }
+    kt_svg_end(f);
+    fprintf(f, "<figcaption>Meridional section at %.0f&deg; through the middle of an incision, %.1f to %.1f mm from "
+               "the axis, true aspect ratio. Tan: the tissue after the last step, its displacement since "
+               "step 0 <b>exaggerated %.0f&times;</b> (largest in-plane displacement %.1f &micro;m); grey outlines: "
+               "before surgery. The gap is the wound opening under intraocular pressure: its two faces are "
+               "%.1f &micro;m apart at most (true size).</figcaption></figure>\n",
+            s->meridian, s->r0, s->r1, F, 1000 * s->max_disp, 1000 * s->gape);
+}
+
+/* ---------------------------------------------------------------- provenance */
+
+static void prov_row(FILE *f, const char *k, const char *v)
+{
+    fputs("<tr><th>", f);
+    kt_html_text(f, k);
+    fputs("</th><td>", f);
+    kt_html_text(f, v ? v : "-");
+    fputs("</td></tr>\n", f);
+}
+
+static void provenance(FILE *f, const kt_report *r)
+{
+    char buf[256];
+    fputs("<h2>7. Provenance</h2>\n<table>\n", f);
+    prov_row(f, "keratome", r->version);
+    prov_row(f, "run folder", r->run_dir);
+    prov_row(f, "scene", r->plan ? r->plan->scene_path : NULL);
+    prov_row(f, "plan", r->plan_path);
+    snprintf(buf, sizeof buf, "%s: %d nodes, %d tets, element order %d", r->mesh, r->mesh_nn, r->mesh_ne, r->mesh_order);
+    prov_row(f, "mesh", buf);
+    if (isfinite(r->solver_ms)) {
+        snprintf(buf, sizeof buf, "%.1f s over %d steps (steps.tsv, t_total_ms)", r->solver_ms / 1000, r->nstep);
+        prov_row(f, "solver time", buf);
+    }
+    snprintf(buf, sizeof buf, "%.1f s (fits, maps and this page)", r->curv_s);
+    prov_row(f, "curvature time", buf);
+    snprintf(buf, sizeof buf, "%s over %.0f mm; K = 337.5 / R; total power: thick lens, n %.3f / %.3f / %.3f "
+                              "(Gullstrand)", r->fit_name, r->zone, r->n->air, r->n->cornea, r->n->aqueous);
+    prov_row(f, "keratometry", buf);
+    fputs("</table>\n", f);
+    if (r->run_yaml) {
+        fputs("<p class=\"note\">run.yaml (augsolve's record of the solve):</p><pre>", f);
+        kt_html_text(f, r->run_yaml);
+        fputs("</pre>\n", f);
+    }
+}
+
+/* ---------------------------------------------------------------- page */
+
+static void step_table(FILE *f, const kt_report *r)
+{
+    fputs("<details><summary class=\"note\">every step (as in curvature.tsv)</summary><table>\n<tr><th>step</th>"
+          "<th>arc</th><th>K steep</th><th>axis</th><th>K flat</th><th>cyl</th><th>flattening</th>"
+          "<th>steepening</th><th>SIA</th><th>total cyl</th></tr>\n", f);
+    for (int i = 0; i < r->nstep; i++) {
+        const kt_report_step *s = r->step + i;
+        fprintf(f, "<tr><td class=\"n\">%d</td>", i);
+        cell(f, "%.0f&deg;", s->arc), cell(f, "%.2f", s->k.k_steep), cell(f, "%.1f&deg;", axis180(s->k.axis_steep));
+        cell(f, "%.2f", s->k.k_flat), cell(f, "%.2f", s->k.cyl), cell(f, "%+.3f", s->flat), cell(f, "%+.3f", s->steep);
+        cell(f, "%.3f", s->va.sia.mag), cell(f, "%.2f", s->tot.tot_cyl);
+        fputs("</tr>\n", f);
+    }
+    fputs("</table></details>\n", f);
+}
+
+static void cards(FILE *f, const kt_report *r)
+{
+    const kt_report_step *s0 = r->step, *sl = r->step + r->nstep - 1;
+    char v[96];
+    fputs("<div class=\"cards\">\n", f);
+    snprintf(v, sizeof v, "%.2f D @ %.0f\xC2\xB0", s0->k.cyl, axis180(s0->k.axis_steep));
+    card(f, v, "pre-op keratometric cylinder");
+    snprintf(v, sizeof v, "%.2f D @ %.0f\xC2\xB0", sl->k.cyl, axis180(sl->k.axis_steep));
+    card(f, v, "cylinder after the last step");
+    snprintf(v, sizeof v, "%.2f D @ %.0f\xC2\xB0", sl->va.sia.mag, axis180(sl->va.sia.axis));
+    card(f, v, "surgically induced astigmatism");
+    if (r->has_target) {
+        snprintf(v, sizeof v, "%.2f", sl->va.ci);
+        card(f, v, "correction index (1 = on target)");
+    }
+    if (fabs(sl->steep) > 1e-9) {
+        snprintf(v, sizeof v, "%.2f", sl->flat / sl->steep);
+        card(f, v, "coupling ratio");
+    }
+    if (isfinite(s0->tot.tot_cyl)) {
+        snprintf(v, sizeof v, "%.2f \xE2\x86\x92 %.2f D", s0->tot.tot_cyl, sl->tot.tot_cyl);
+        card(f, v, "total corneal astigmatism");
+    }
+    fputs("</div>\n", f);
+}
+
+static int page(FILE *f, const kt_report *r, kt_err *e)
+{
+    char title[512];
+    snprintf(title, sizeof title, "keratome: %s", r->plan && r->plan->scene.name[0] ? r->plan->scene.name : r->run_dir);
+    kt_html_begin(f, title, CSS);
+    fputs("<header><h1>Limbal relaxing incisions: what the cut does to the cornea</h1><p>", f);
+    kt_html_text(f, r->plan_path ? r->plan_path : "(no plan)");
+    fprintf(f, " &middot; %d step%s &middot; simulated by keratome ", r->nstep - 1, r->nstep == 2 ? "" : "s");
+    kt_html_text(f, r->version);
+    fputs("</p></header>\n<main>\n", f);
+    cards(f, r);
+    fputs("<p class=\"note\">A finite element model of the eye is cut step by step as the plan says; after every "
+          "step the deformed cornea is measured the way a keratometer and a topographer measure a patient. "
+          "Sections 1&ndash;6 show the plan, the corneal power before and after, how it changed with every "
+          "step of the blade, the change as astigmatism vectors, and the wound itself. The numbers are what the "
+          "model gives: nothing is tuned to clinical outcomes.</p>\n", f);
+    plan_section(f, r);
+    int rc = maps(f, r, e);
+    if (rc == KT_OK) rc = step_plots(f, r, e);
+    if (rc != KT_OK) return rc;
+    step_table(f, r);
+    fputs("<h2>5. Astigmatism as vectors</h2>\n<div class=\"row\">\n<figure style=\"flex:0 1 460px\">", f);
+    double_angle(f, r);
+    fputs("<figcaption><b>Double-angle plot.</b> Astigmatism is a vector with a 180&deg; period, so each "
+          "cylinder is drawn at twice its axis: 90&deg; points left, opposite to 0&deg;. Arrows from the centre: "
+          "pre-op and post-op (keratometric) astigmatism, the target induced and the surgically induced "
+          "astigmatism; the difference vector is what remains to do.</figcaption></figure>\n"
+          "<div style=\"flex:1 1 380px\">", f);
+    alpins_table(f, r);
+    fputs("</div>\n</div>\n", f);
+    if (r->section && r->section->n > 0) section_fig(f, r);
+    provenance(f, r);
+    fputs("</main>\n", f);
+    kt_html_end(f);
+    return KT_OK;
+}
+
+int kt_curv_report_write(const char *path, const kt_report *r, kt_err *e)
+{
+    if (r->nstep < 1) return kt_fail(e, KT_ERUN, "report: no steps");
+    kt_out o;
+    if (kt_out_open(&o, path, e) != KT_OK) return e->code;
+    int rc = page(o.f, r, e);
+    if (rc == KT_OK && ferror(o.f)) rc = kt_fail(e, KT_ERUN, "%s: write error", path);
+    if (rc != KT_OK) {
+        kt_out_abort(&o);
+        return rc;
+    }
+    return kt_out_commit(&o, e);
+}

@@ -1,0 +1,119 @@
+/* aug_plan.h: the planned method: every step of a complete edits stream from one factorization
+ * (the augmented method in principal-submatrix form).
+ *
+ * Variables. A node c created by a dup of node p is written as an increment over its parent,
+ * u_c = u_p + d_c (a node split twice chains: u_c2 = u_c1 + d_c2). The variables are then the
+ * intact nodes' u and the new nodes' d, numbered as the final mesh's DOFs (3 node + comp), so
+ * the increments come after every intact DOF in the order the plan releases them. With T the
+ * map from variables to the final mesh's displacements, the energy is 1/2 v^T A v - v^T T^T f,
+ * A = T^T K_final T = [K C; C^T D], and K is exactly the intact stiffness: d = 0 glues every
+ * child to its parent. Step k's system is the leading principal block A_k of A (the increments
+ * released by step k); unreleased increments are zero. This holds because a dup moves tets from
+ * a node to its new child only (cut.c checks that every moved tet holds the node), so a tet's
+ * node at step k is the nearest released ancestor of its final node.
+ *
+ * One factorization. P = [a fill-reducing order of K's free DOFs, then the free increments in
+ * release order]; L L^T = P A_FF P^T. Then chol(A_k) is the leading block of L, and a step is
+ * exact with the whole factor: forward-solve L on P [b_k; 0], zero the entries of the
+ * unreleased increments, back-solve L^T: the leading part is A_k^-1 b_k, the rest 0.
+ *
+ * Where the form does not hold (a fix edit in the stream changes K's block; a node created on
+ * a fixation surface whose parent is free there couples u_p + d_c = g) the plan says why and
+ * the caller falls back to the iterative method. */
+#ifndef KT_AUG_PLAN_H
+#define KT_AUG_PLAN_H
+
+#include "aug.h"
+
+/* The plan: the whole stream and what it implies for the variables. Owner: kt_plan_read /
+ * kt_plan_free. */
+typedef struct kt_plan {
+    int nsteps, cap;
+    kt_step *step;              /* steps 1..nsteps at step[0..nsteps) */
+    int nn0, nn;                /* intact and final node counts */
+    int *nn_at;                 /* nsteps+1: node count after step k (nn_at[0] = nn0) */
+    int *parent;                /* nn: the node a node was split from, -1 for intact nodes */
+    unsigned char *fixed;       /* 3 nn: constrained variables */
+    double *gv;                 /* 3 nn: their values (an increment's: g_child - g_parent) */
+    double *g;                  /* 3 nn: the prescribed displacement of each constrained DOF */
+    int usable;                 /* 1: the principal-submatrix form holds */
+    char why[512];              /* else: where and why it does not */
+} kt_plan;
+
+/* Read the rest of the stream (every step to the end) into p. Bad input is KT_EINPUT. */
+int kt_plan_read(kt_plan *p, kt_edits_reader *r, kt_err *e);
+/* Validate every step against the intact mesh before anything is factored (a bad tet is
+ * KT_EINPUT "stream:line:col: ..."), and set parents, constrained variables and p->usable.
+ * The final cut mesh is written to final (caller frees). */
+int kt_plan_check(kt_plan *p, const char *stream, const kt_aug_problem *prob, kt_mesh *final,
+                  kt_err *e);
+void kt_plan_free(kt_plan *p);
+
+/* The factor of the final augmented matrix and the variables' positions in it. Owner:
+ * kt_plan_factor_build / kt_plan_factor_free. */
+typedef struct kt_plan_factor {
+    cholmod_common c;
+    int started;
+    int nvar;                   /* 3 nn (final) */
+    int nfree, nK;              /* free variables; the first nK are intact DOFs */
+    int *pos;                   /* nvar: position among the free variables, -1: constrained */
+    int *nfree_at;              /* nsteps+1: free variables present after step k */
+    cholmod_sparse *A;          /* A_FF: the free block, lower triangle, in free positions */
+    cholmod_factor *L;          /* L L^T = P A_FF P^T, P = L->Perm */
+    cholmod_dense *w[2], *Y, *E;/* solve workspaces */
+    int *Tp, *Ti;               /* the trailing block L22 (columns and rows >= nK, shifted by */
+    double *Tx;                 /* nK), CSC, diagonal first: the increments' forward solve */
+    double *y0, *bK0;           /* L^-1 P [bK0; 0] and the intact rows bK0 it was made from */
+    unsigned char *want;        /* NULL, or the supernodes a restricted back substitution needs */
+    int want_cols;              /* their columns */
+    int nlift;                  /* A(i, j) with i or j constrained, both orientations: */
+    int *lrow, *lcol;           /* variables */
+    double *lval;
+    double t_assemble, t_order, t_factor, nnzL;
+} kt_plan_factor;
+
+/* Assemble A on the final mesh, order (ordering: KT_AUG_ORDER_* for K's block) and factor. */
+int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
+                         const kt_materials *mats, int ordering, int factor, kt_err *e);
+void kt_plan_factor_free(kt_plan_factor *F);
+
+/* Restricted output (aug_plan_out.c): from now on the back substitution computes only what
+ * the DOFs of the marked nodes of the final mesh (nodes, p->nn) need: the supernodes on their
+ * paths to the roots of the supernodal tree. A simplicial factor keeps the full one. Then a
+ * step's u is valid on the marked nodes only and it computes no residual and no reactions. */
+int kt_plan_factor_restrict(kt_plan_factor *F, const kt_plan *p, const unsigned char *nodes,
+                            kt_err *e);
+void kt_plan_back_restricted(const kt_plan_factor *F, double *y);
+
+/* The cut mesh as the steps go, its loads and the field. Owner: kt_plan_state_init / _free. */
+typedef struct kt_plan_state {
+    int step;                   /* edits applied up to this step */
+    kt_mesh mesh;               /* the cut mesh after them */
+    int *origin;                /* nn: input node each node descends from */
+    double *force;              /* 3 nn: nodal forces from the edits, N */
+    double *f;                  /* 3 nn: applied loads (pressures + forces), N */
+    double *v;                  /* 3 nn: the variables (u of intact nodes, d of new ones) */
+    double *u;                  /* 3 nn: displacement of the cut mesh, mm */
+    double *react;              /* 3 nn: K u - f at constrained DOFs, else 0 */
+    double *tf;                 /* 3 nn: T^T f, the loads each variable sums */
+    double *b, *x, *r, *ax;     /* right-hand side, solution, residual, scratch (free positions) */
+    double t_edits;             /* s to apply the last step's edits */
+    kt_aug_row row;
+} kt_plan_state;
+
+int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
+                       kt_err *e);
+void kt_plan_state_free(kt_plan_state *s);
+/* Apply step k's edits (k = s->step + 1) to the state without solving. */
+int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e);
+/* Solve the current step: loads on the cut mesh -> right-hand side of the released rows ->
+ * substitutions -> field (s->u, s->react) and s->row. Where the backward error exceeds tol,
+ * one step of iterative refinement; still above it is KT_ERUN. */
+int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
+                  const kt_aug_problem *prob, double tol, kt_err *e);
+/* Solve the current cut mesh from scratch (assembly, METIS, factorization, solve: what a user
+ * would run instead) into u (3 nn); t gets the seconds it took. The --verify reference. */
+int kt_plan_fresh(const kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
+                  double *u, double *t, kt_err *e);
+
+#endif

@@ -1,0 +1,298 @@
+/* aug_plan_factor.c: the augmented matrix of the final cut mesh in increment variables,
+ * A = T^T K_final T (K_final from the fem layer's assembly), its free block ordered as
+ * [a fill-reducing order of the intact block, then the increments in release order] and
+ * factored once. */
+#include "aug_plan.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+enum { CHAIN_MAX = 256 };
+
+void kt_plan_factor_free(kt_plan_factor *F)
+{
+    if (F->started) {
+        cholmod_free_factor(&F->L, &F->c);
+        cholmod_free_dense(&F->w[0], &F->c);
+        cholmod_free_dense(&F->w[1], &F->c);
+        cholmod_free_dense(&F->Y, &F->c);
+        cholmod_free_dense(&F->E, &F->c);
+        cholmod_free_sparse(&F->A, &F->c);
+        cholmod_finish(&F->c);
+    }
+    free(F->pos);
+    free(F->nfree_at);
+    free(F->lrow);
+    free(F->lcol);
+    free(F->lval);
+    free(F->Tp);
+    free(F->Ti);
+    free(F->Tx);
+    free(F->y0);
+    free(F->bK0);
+    free(F->want);
+    memset(F, 0, sizeof *F);
+}
+
+/* The variables DOF i of the final mesh sums: its node and the node's ancestors, same
+ * component. Returns the count, or -1 when the chain is deeper than CHAIN_MAX. */
+static int chain(const kt_plan *p, int i, int *v)
+{
+    int n = 0, c = i % 3;
+    for (int a = i / 3; a >= 0; a = p->parent[a]) {
+        if (n == CHAIN_MAX) return -1;
+        v[n++] = 3 * a + c;
+    }
+    return n;
+}
+
+/* Positions of the free variables, in variable order (intact DOFs first, then the increments
+ * in release order), and how many are present after each step. */
+static int positions(kt_plan_factor *F, const kt_plan *p, kt_err *e)
+{
+    F->nvar = 3 * p->nn;
+    F->pos = kt_calloc((size_t)F->nvar, sizeof(int), e);
+    F->nfree_at = kt_calloc((size_t)p->nsteps + 1, sizeof(int), e);
+    if (e->code) return e->code;
+    int n = 0, k = 0;
+    for (int v = 0; v < F->nvar; v++) {
+        while (k <= p->nsteps && v == 3 * p->nn_at[k]) F->nfree_at[k++] = n;
+        F->pos[v] = p->fixed[v] ? -1 : n++;
+        if (v == 3 * p->nn0 - 1) F->nK = n;
+    }
+    while (k <= p->nsteps) F->nfree_at[k++] = n;
+    F->nfree = n;
+    return KT_OK;
+}
+
+/* Where the entries of A go: free-free into T (lower, in positions), the rest into the
+ * lifting list in both orientations. fill = 0 only counts. */
+typedef struct sink {
+    kt_plan_factor *F;
+    cholmod_triplet *T;
+    size_t nt, nl;
+    int fill;
+} sink;
+
+static void put(sink *s, int v, int w, double x)
+{
+    kt_plan_factor *F = s->F;
+    int pv = F->pos[v], pw = F->pos[w];
+    if (pv >= 0 && pw >= 0) {
+        if (s->fill) {
+            ((int *)s->T->i)[s->nt] = pv;
+            ((int *)s->T->j)[s->nt] = pw;
+            ((double *)s->T->x)[s->nt] = x;
+        }
+        s->nt++;
+        return;
+    }
+    for (int o = 0; o < 1 + (v != w); o++) {
+        if (s->fill) {
+            F->lrow[s->nl] = o ? w : v;
+            F->lcol[s->nl] = o ? v : w;
+            F->lval[s->nl] = x;
+        }
+        s->nl++;
+    }
+}
+
+/* K(i, j) of the full symmetric K into every pair of variables (v >= w) that sum i and j. */
+static void scatter(sink *s, const int *ci, int ni, const int *cj, int nj, double x)
+{
+    for (int a = 0; a < ni; a++)
+        for (int b = 0; b < nj; b++)
+            if (ci[a] >= cj[b]) put(s, ci[a], cj[b], x);
+}
+
+static int transform(sink *s, const kt_plan *p, const cholmod_sparse *K, kt_err *e)
+{
+    const int *Kp = K->p, *Ki = K->i, *Knz = K->nz;
+    const double *Kx = K->x;
+    int ci[CHAIN_MAX], cj[CHAIN_MAX];
+    for (int j = 0; j < (int)K->ncol; j++) {
+        int nj = chain(p, j, cj);
+        if (nj < 0) return kt_fail(e, KT_EINPUT, "node %d is split more than %d times", j / 3 + 1,
+                                   CHAIN_MAX);
+        int end = K->packed ? Kp[j + 1] : Kp[j] + Knz[j];
+        for (int q = Kp[j]; q < end; q++) {
+            int i = Ki[q];
+            if (i < j) continue; /* lower triangle only */
+            int ni = chain(p, i, ci);
+            if (ni < 0) return kt_fail(e, KT_EINPUT, "a node is split more than %d times", CHAIN_MAX);
+            scatter(s, ci, ni, cj, nj, Kx[q]);
+            if (i != j) scatter(s, cj, nj, ci, ni, Kx[q]); /* the mirror entry K(j, i) */
+        }
+    }
+    return KT_OK;
+}
+
+/* A_FF (lower, in free positions) and the lifting entries from the final mesh's stiffness. */
+static int assemble(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
+                    const kt_materials *mats, kt_err *e)
+{
+    double t0 = kt_now();
+    cholmod_sparse *K = kt_fem_assemble(final, mats, NULL, &F->c, e);
+    if (!K) return e->code;
+    sink s = {F, NULL, 0, 0, 0};
+    if (transform(&s, p, K, e) == KT_OK) {
+        s.T = cholmod_allocate_triplet(F->nfree, F->nfree, s.nt ? s.nt : 1, -1, CHOLMOD_REAL, &F->c);
+        F->lrow = kt_calloc(s.nl ? s.nl : 1, sizeof(int), e);
+        F->lcol = kt_calloc(s.nl ? s.nl : 1, sizeof(int), e);
+        F->lval = kt_calloc(s.nl ? s.nl : 1, sizeof(double), e);
+        if (!s.T && !e->code) kt_fail(e, KT_ERUN, "out of memory for the augmented matrix");
+    }
+    if (!e->code) {
+        F->nlift = (int)s.nl;
+        s.nt = s.nl = 0;
+        s.fill = 1;
+        transform(&s, p, K, e);
+        s.T->nnz = s.nt;
+    }
+    cholmod_free_sparse(&K, &F->c);
+    if (!e->code && !(F->A = cholmod_triplet_to_sparse(s.T, s.nt, &F->c)))
+        kt_fail(e, KT_ERUN, "CHOLMOD triplet conversion failed (status %d)", F->c.status);
+    cholmod_free_triplet(&s.T, &F->c);
+    F->t_assemble = kt_now() - t0;
+    return e->code;
+}
+
+/* The leading nK x nK block of A (the intact stiffness on its free DOFs). */
+static cholmod_sparse *intact_block(kt_plan_factor *F)
+{
+    const int *Ap = F->A->p, *Ai = F->A->i;
+    size_t nz = 0;
+    for (int j = 0; j < F->nK; j++)
+        for (int q = Ap[j]; q < Ap[j + 1]; q++) nz += Ai[q] < F->nK;
+    cholmod_sparse *B = cholmod_allocate_sparse(F->nK, F->nK, nz, 1, 1, -1, CHOLMOD_PATTERN, &F->c);
+    if (!B) return NULL;
+    int *Bp = B->p, *Bi = B->i, n = 0;
+    for (int j = 0; j < F->nK; j++) {
+        Bp[j] = n;
+        for (int q = Ap[j]; q < Ap[j + 1]; q++)
+            if (Ai[q] < F->nK) Bi[n++] = Ai[q];
+    }
+    Bp[F->nK] = n;
+    return B;
+}
+
+/* P: the intact block's fill-reducing order (postordered on its tree), then the increments. */
+static int *order(kt_plan_factor *F, int ordering, kt_err *e)
+{
+    int *P = kt_calloc((size_t)F->nfree ? (size_t)F->nfree : 1, sizeof(int), e);
+    if (!P) return NULL;
+    for (int q = 0; q < F->nfree; q++) P[q] = q;
+    if (ordering == KT_AUG_ORDER_NATURAL || F->nK == 0) return P;
+    cholmod_sparse *B = intact_block(F);
+    F->c.nmethods = 1;
+    F->c.method[0].ordering = ordering == KT_AUG_ORDER_AMD ? CHOLMOD_AMD : CHOLMOD_METIS;
+    F->c.postorder = 1;
+    F->c.supernodal = CHOLMOD_SIMPLICIAL;
+    cholmod_factor *Lb = B ? cholmod_analyze(B, &F->c) : NULL;
+    if (Lb) memcpy(P, Lb->Perm, sizeof(int) * (size_t)F->nK);
+    else kt_fail(e, KT_ERUN, "CHOLMOD analysis of the intact block failed (status %d)", F->c.status);
+    cholmod_free_factor(&Lb, &F->c);
+    cholmod_free_sparse(&B, &F->c);
+    if (e->code) {
+        free(P);
+        return NULL;
+    }
+    return P;
+}
+
+static int factorize(kt_plan_factor *F, const int *P, int factor, kt_err *e)
+{
+    F->c.nmethods = 1;
+    F->c.method[0].ordering = CHOLMOD_GIVEN;
+    F->c.postorder = 0; /* keep the increments last, in release order */
+    F->c.supernodal = factor == KT_AUG_FACTOR_SIMPLICIAL ? CHOLMOD_SIMPLICIAL : CHOLMOD_SUPERNODAL;
+    F->c.final_ll = 0;
+    F->L = cholmod_analyze_p(F->A, (int *)P, NULL, 0, &F->c);
+    if (!F->L) return kt_fail(e, KT_ERUN, "CHOLMOD analysis failed (status %d)", F->c.status);
+    const int *LP = F->L->Perm;
+    for (int q = 0; q < F->nfree; q++)
+        if (LP[q] != P[q])
+            return kt_fail(e, KT_ERUN, "CHOLMOD did not keep the given order at %d", q);
+    cholmod_factorize(F->A, F->L, &F->c);
+    if (F->c.status == CHOLMOD_NOT_POSDEF || F->L->minor < F->L->n)
+        return kt_fail(e, KT_ERUN, "the planned augmented matrix is not positive definite at "
+                       "free variable %d (pivot %zu of %zu): is a body free to move rigidly?",
+                       LP[F->L->minor], F->L->minor + 1, F->L->n);
+    if (F->c.status != CHOLMOD_OK)
+        return kt_fail(e, KT_ERUN, "CHOLMOD factorization failed (status %d)", F->c.status);
+    F->nnzL = F->c.lnz;
+    return KT_OK;
+}
+
+/* Column j of L (permuted numbering): its rows and values, the diagonal first. */
+typedef struct lcol {
+    int n;
+    const int *i;     /* simplicial: rows; supernodal: NULL, rows k1 + q then s[] */
+    const double *x;
+    int k1, q0;       /* supernodal: first column of the supernode, offset of j in it */
+    const int *s;     /* supernodal: the supernode's row list */
+} lcol;
+
+static lcol column(const cholmod_factor *L, int j, int *sup)
+{
+    lcol c = {0};
+    if (!L->is_super) {
+        const int *Lp = L->p, *Lnz = L->nz;
+        c.n = Lnz[j];
+        c.i = (const int *)L->i + Lp[j];
+        c.x = (const double *)L->x + Lp[j];
+        return c;
+    }
+    const int *S = L->super, *pi = L->pi, *px = L->px;
+    while (S[*sup + 1] <= j) (*sup)++;
+    int s = *sup, nsrow = pi[s + 1] - pi[s];
+    c.k1 = S[s];
+    c.q0 = j - S[s];
+    c.n = nsrow - c.q0;
+    c.s = (const int *)L->s + pi[s] + c.q0;
+    c.x = (const double *)L->x + px[s] + (size_t)c.q0 * nsrow + c.q0;
+    return c;
+}
+
+/* L22, the columns of the increments, for their forward solve. */
+static int trailing_block(kt_plan_factor *F, kt_err *e)
+{
+    const cholmod_factor *L = F->L;
+    int nt = F->nfree - F->nK, sup = 0;
+    size_t nz = 0;
+    for (int j = F->nK; j < F->nfree; j++) nz += (size_t)column(L, j, &sup).n;
+    F->Tp = kt_calloc((size_t)nt + 1, sizeof(int), e);
+    F->Ti = kt_calloc(nz ? nz : 1, sizeof(int), e);
+    F->Tx = kt_calloc(nz ? nz : 1, sizeof(double), e);
+    if (e->code) return e->code;
+    size_t k = 0;
+    sup = 0;
+    for (int j = F->nK; j < F->nfree; j++) {
+        lcol c = column(L, j, &sup);
+        F->Tp[j - F->nK] = (int)k;
+        for (int q = 0; q < c.n; q++, k++) {
+            F->Ti[k] = (c.i ? c.i[q] : c.s[q]) - F->nK;
+            F->Tx[k] = c.x[q];
+        }
+    }
+    F->Tp[nt] = (int)k;
+    return KT_OK;
+}
+
+int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
+                         const kt_materials *mats, int ordering, int factor, kt_err *e)
+{
+    memset(F, 0, sizeof *F);
+    cholmod_start(&F->c);
+    F->started = 1;
+    if (positions(F, p, e) || assemble(F, p, final, mats, e)) return e->code;
+    double t0 = kt_now();
+    int *P = order(F, ordering, e);
+    if (!P) return e->code;
+    double t1 = kt_now();
+    if (factorize(F, P, factor, e) == KT_OK) trailing_block(F, e);
+    free(P);
+    F->t_order = t1 - t0;
+    F->t_factor = kt_now() - t1;
+    return e->code;
+}

@@ -1,0 +1,295 @@
+/* aug_plan_step.c: one step of the planned method, top to bottom: the step's edits on the cut
+ * mesh -> its loads (fem layer) -> the right-hand side of the released rows -> forward
+ * substitution with the whole factor, the unreleased rows zeroed, back substitution -> the
+ * displacement of the cut mesh and its reactions. */
+#include "aug_plan.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "apply.h"
+
+void kt_plan_state_free(kt_plan_state *s)
+{
+    kt_mesh_free(&s->mesh);
+    free(s->origin);
+    free(s->force);
+    free(s->f);
+    free(s->tf);
+    free(s->v);
+    free(s->u);
+    free(s->react);
+    free(s->b);
+    free(s->x);
+    free(s->r);
+    free(s->ax);
+    memset(s, 0, sizeof *s);
+}
+
+int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
+                       kt_err *e)
+{
+    memset(s, 0, sizeof *s);
+    size_t n = 3 * (size_t)p->nn;
+    s->origin = kt_calloc((size_t)p->nn, sizeof(int), e);
+    s->force = kt_calloc(n, sizeof(double), e);
+    s->f = kt_calloc(n, sizeof(double), e);
+    s->tf = kt_calloc(n, sizeof(double), e);
+    s->v = kt_calloc(n, sizeof(double), e);
+    s->u = kt_calloc(n, sizeof(double), e);
+    s->react = kt_calloc(n, sizeof(double), e);
+    s->b = kt_calloc(n, sizeof(double), e);
+    s->x = kt_calloc(n, sizeof(double), e);
+    s->r = kt_calloc(n, sizeof(double), e);
+    s->ax = kt_calloc(n, sizeof(double), e);
+    if (e->code || kt_mesh_copy(&s->mesh, prob->mesh, e)) return e->code;
+    for (int a = 0; a < p->nn0; a++) s->origin[a] = a;
+    return KT_OK;
+}
+
+int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e)
+{
+    double t0 = kt_now();
+    const kt_step *st = &p->step[s->step];
+    int *touched = NULL, nt = 0, nn_old = s->mesh.nn;
+    if (kt_cut_apply(&s->mesh, st, &touched, &nt, e)) return e->code;
+    free(touched);
+    for (int a = nn_old; a < s->mesh.nn; a++) s->origin[a] = s->origin[p->parent[a]];
+    for (int i = 0; i < st->n; i++)
+        if (st->edit[i].kind == KT_EDIT_FORCE)
+            memcpy(s->force + 3 * (size_t)st->edit[i].node, st->edit[i].v, sizeof st->edit[i].v);
+    s->step++;
+    s->t_edits = kt_now() - t0;
+    return KT_OK;
+}
+
+/* Applied loads on the cut mesh: the scene's pressures (fem layer), the prestress's internal
+ * forces when the scene is prestressed (their release across cut faces), the edits' forces. */
+static int loads(kt_plan_state *s, const kt_aug_problem *prob, kt_err *e)
+{
+    size_t n = 3 * (size_t)s->mesh.nn;
+    memset(s->f, 0, n * sizeof(double));
+    for (int k = 0; k < prob->npress; k++)
+        if (kt_fem_pressure(&s->mesh, prob->press[k].tag, prob->press[k].p, s->f, e))
+            return e->code;
+    if (kt_fem_release_loads(&s->mesh, prob->mats, s->f, e)) return e->code;
+    for (size_t i = 0; i < n; i++) s->f[i] += s->force[i];
+    return KT_OK;
+}
+
+/* tf = T^T f (each variable sums its node's and descendants' loads); b = tf on the free
+ * variables minus the lifting A(free, constrained) g of the variables present. */
+static void rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
+{
+    int n = 3 * s->mesh.nn;
+    memset(s->tf, 0, (size_t)n * sizeof(double));
+    for (int i = 0; i < n; i++)
+        for (int a = i / 3; a >= 0; a = p->parent[a]) s->tf[3 * a + i % 3] += s->f[i];
+    memset(s->b, 0, (size_t)F->nfree * sizeof(double));
+    for (int v = 0; v < n; v++)
+        if (F->pos[v] >= 0) s->b[F->pos[v]] = s->tf[v];
+    for (int l = 0; l < F->nlift; l++) {
+        int r = F->lrow[l], c = F->lcol[l];
+        if (r < n && c < n && F->pos[r] >= 0 && F->pos[c] < 0)
+            s->b[F->pos[r]] -= F->lval[l] * p->gv[c];
+    }
+}
+
+static cholmod_dense wrap(double *x, int n)
+{
+    cholmod_dense d;
+    memset(&d, 0, sizeof d);
+    d.nrow = d.nzmax = d.d = (size_t)n;
+    d.ncol = 1;
+    d.x = x;
+    d.xtype = CHOLMOD_REAL;
+    d.dtype = CHOLMOD_DOUBLE;
+    return d;
+}
+
+static int solve_sys(kt_plan_factor *F, int sys, cholmod_dense *in, cholmod_dense **out, kt_err *e)
+{
+    if (!cholmod_solve2(sys, F->L, in, NULL, out, NULL, &F->Y, &F->E, &F->c))
+        return kt_fail(e, KT_ERUN, "CHOLMOD solve failed (status %d)", F->c.status);
+    return KT_OK;
+}
+
+/* y = L^-1 P b: when the intact rows of b are those the stored y0 was made from, only the
+ * increments' rows change: y = y0 + [0; L22^-1 b_I] (L22 unit-diagonal for LDL^T), computed
+ * on the first N rows only. Else a full forward solve (the first one stores y0). */
+static int forward(kt_plan_factor *F, int N, double *b, int shortcut, kt_err *e)
+{
+    int nK = F->nK;
+    if (!F->w[1] && !(F->w[1] = cholmod_zeros(F->nfree, 1, CHOLMOD_REAL, &F->c)))
+        return kt_fail(e, KT_ERUN, "CHOLMOD out of memory");
+    double *y = F->w[1]->x;
+    if (shortcut && F->y0 && memcmp(b, F->bK0, (size_t)nK * sizeof(double)) == 0) {
+        memcpy(y, F->y0, (size_t)N * sizeof(double));
+        double *z = y + nK;
+        const double *bI = b + nK;
+        int unit = !F->L->is_ll;
+        for (int j = 0; j < N - nK; j++) z[j] = 0;
+        for (int j = 0; j < N - nK; j++) {
+            int p0 = F->Tp[j], p1 = F->Tp[j + 1];
+            double zj = (z[j] + bI[j]) / (unit ? 1.0 : F->Tx[p0]);
+            for (int p = p0 + 1; p < p1; p++)
+                if (F->Ti[p] < N - nK) z[F->Ti[p]] -= F->Tx[p] * zj;
+            z[j] = zj;
+        }
+        for (int j = 0; j < N - nK; j++) z[j] += F->y0[nK + j];
+        return KT_OK;
+    }
+    cholmod_dense B = wrap(b, F->nfree);
+    if (shortcut && !F->y0) { /* the first right-hand side: keep L^-1 P [b_K; 0] */
+        F->y0 = kt_calloc((size_t)F->nfree, sizeof(double), e);
+        F->bK0 = kt_calloc((size_t)nK ? (size_t)nK : 1, sizeof(double), e);
+        if (e->code) return e->code;
+        memcpy(F->y0, b, (size_t)nK * sizeof(double));
+        memcpy(F->bK0, b, (size_t)nK * sizeof(double));
+        cholmod_dense B0 = wrap(F->y0, F->nfree);
+        if (solve_sys(F, CHOLMOD_P, &B0, &F->w[0], e) || solve_sys(F, CHOLMOD_L, F->w[0], &F->w[1], e))
+            return e->code;
+        memcpy(F->y0, F->w[1]->x, (size_t)F->nfree * sizeof(double));
+        return forward(F, N, b, shortcut, e);
+    }
+    if (solve_sys(F, CHOLMOD_P, &B, &F->w[0], e) || solve_sys(F, CHOLMOD_L, F->w[0], &F->w[1], e))
+        return e->code;
+    return KT_OK;
+}
+
+/* x = A_k^-1 b on the first N free positions, 0 after: forward, the rows of the unreleased
+ * increments zeroed, L^T (D L^T for LDL^T), P^T. t[0..1] += forward, back (s); t[2] counts the
+ * forward solves that took the increments-only path. */
+static int substitute(kt_plan_factor *F, int N, double *b, double *x, int shortcut, double *t,
+                      kt_err *e)
+{
+    double t0 = kt_now();
+    if (forward(F, N, b, shortcut, e)) return e->code;
+    double *y = F->w[1]->x;
+    memset(y + N, 0, (size_t)(F->nfree - N) * sizeof(double)); /* P keeps them in place */
+    double t1 = kt_now();
+    if (F->want) { /* restricted output */
+        kt_plan_back_restricted(F, y);
+        const int *Perm = F->L->Perm;
+        for (int q = 0; q < F->nfree; q++) x[Perm[q]] = y[q];
+    } else {
+        if (solve_sys(F, F->L->is_ll ? CHOLMOD_Lt : CHOLMOD_DLt, F->w[1], &F->w[0], e) ||
+            solve_sys(F, CHOLMOD_Pt, F->w[0], &F->w[1], e))
+            return e->code;
+        memcpy(x, F->w[1]->x, (size_t)F->nfree * sizeof(double));
+    }
+    t[0] += t1 - t0;
+    t[1] += kt_now() - t1;
+    return KT_OK;
+}
+
+/* r = b - A_k x on the first N positions; returns ||r|| / ||b|| and sets *backward to
+ * ||r|| / (|| |A_k| |x| || + ||b||). ax: N scratch values. */
+static double residual(const kt_plan_factor *F, int N, const double *b, const double *x, double *r,
+                       double *ax, double *backward)
+{
+    const int *Ap = F->A->p, *Ai = F->A->i;
+    const double *Ax = F->A->x;
+    memcpy(r, b, (size_t)N * sizeof(double));
+    memset(ax, 0, (size_t)N * sizeof(double));
+    for (int j = 0; j < N; j++)
+        for (int q = Ap[j]; q < Ap[j + 1]; q++) {
+            int i = Ai[q];
+            if (i >= N) continue;
+            r[i] -= Ax[q] * x[j];
+            ax[i] += fabs(Ax[q] * x[j]);
+            if (i != j) {
+                r[j] -= Ax[q] * x[i];
+                ax[j] += fabs(Ax[q] * x[i]);
+            }
+        }
+    double rr = 0, bb = 0, aa = 0;
+    for (int i = 0; i < N; i++) {
+        rr += r[i] * r[i];
+        bb += b[i] * b[i];
+        aa += ax[i] * ax[i];
+    }
+    *backward = aa + bb > 0 ? sqrt(rr) / (sqrt(aa) + sqrt(bb)) : 0;
+    return bb > 0 ? sqrt(rr / bb) : sqrt(rr);
+}
+
+/* The variables, the displacement u_c = u_parent + d_c, and K u - f at constrained DOFs
+ * (each constrained variable's row of A gives the sum over the DOF and its constrained
+ * descendants; its children's sums come off). */
+static void field(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
+{
+    int nn = s->mesh.nn, n = 3 * nn;
+    for (int v = 0; v < n; v++) s->v[v] = F->pos[v] >= 0 ? s->x[F->pos[v]] : p->gv[v];
+    for (int a = 0; a < nn; a++)
+        for (int c = 0; c < 3; c++)
+            s->u[3 * a + c] = s->v[3 * a + c] + (p->parent[a] >= 0 ? s->u[3 * p->parent[a] + c] : 0);
+    memset(s->react, 0, (size_t)n * sizeof(double));
+    for (int l = 0; l < F->nlift; l++) {
+        int r = F->lrow[l], c = F->lcol[l];
+        if (r < n && c < n && F->pos[r] < 0) s->react[r] += F->lval[l] * s->v[c];
+    }
+    for (int v = 0; v < n; v++)
+        if (F->pos[v] < 0) s->react[v] -= s->tf[v];
+    for (int a = p->nn0; a < nn; a++) /* ascending: a child's own children come off later */
+        for (int c = 0; c < 3; c++)
+            if (F->pos[3 * a + c] < 0) s->react[3 * p->parent[a] + c] -= s->react[3 * a + c];
+}
+
+int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
+                  const kt_aug_problem *prob, double tol, kt_err *e)
+{
+    double t0 = kt_now(), ts[2] = {0, 0};
+    kt_aug_row *w = &s->row;
+    int N = F->nfree_at[s->step];
+    if (loads(s, prob, e)) return e->code;
+    rhs(s, p, F);
+    double t1 = kt_now();
+    if (substitute(F, N, s->b, s->x, 1, ts, e)) return e->code;
+    double t2 = kt_now(), backward = 0, rel = NAN;
+    if (!F->want) rel = residual(F, N, s->b, s->x, s->r, s->ax, &backward);
+    s->row.iters = 0;
+    if (!(backward <= tol)) { /* one step of iterative refinement */
+        memset(s->r + N, 0, (size_t)(F->nfree - N) * sizeof(double));
+        if (substitute(F, N, s->r, s->ax, 0, ts, e)) return e->code;
+        for (int i = 0; i < N; i++) s->x[i] += s->ax[i];
+        rel = residual(F, N, s->b, s->x, s->r, s->ax, &backward);
+        s->row.iters = 1;
+    }
+    if (!(backward <= tol))
+        return kt_fail(e, KT_ERUN, "step %d: the planned solve's backward error %.3g exceeds "
+                       "--tol %.3g after a step of iterative refinement", s->step, backward, tol);
+    double t3 = kt_now();
+    field(s, p, F);
+    w->closure_max = F->want ? F->want_cols : 0;
+    double t4 = kt_now();
+    w->step = s->step;
+    w->n_dofs = 3 * s->mesh.nn;
+    w->m = N - F->nK;
+    w->new_dofs = s->step ? 3 * (p->nn_at[s->step] - p->nn_at[s->step - 1]) : 0;
+    w->t_update = 1e3 * (s->t_edits + t1 - t0);
+    w->t_step1 = 1e3 * ts[0];
+    w->t_step2 = 1e3 * (t3 - t2);
+    w->t_step3 = 1e3 * (ts[1] + t4 - t3);
+    w->t_total = w->t_update + 1e3 * (t4 - t1);
+    w->rel_residual = rel;
+    w->verify_rel_diff = w->t_verify = NAN;
+    snprintf(w->refactor, sizeof w->refactor, "-");
+    w->nnz_L = F->nnzL;
+    return KT_OK;
+}
+
+int kt_plan_fresh(const kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
+                  double *u, double *t, kt_err *e)
+{
+    double t0 = kt_now();
+    cholmod_common c;
+    cholmod_start(&c);
+    c.nmethods = 1; /* what a user would run instead: METIS, postordered */
+    c.method[0].ordering = CHOLMOD_METIS;
+    c.postorder = 1;
+    kt_fem_solve(&s->mesh, prob->mats, p->fixed, p->g, s->f, u, &c, e);
+    cholmod_finish(&c);
+    *t = kt_now() - t0;
+    return e->code;
+}

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# lri-sensitivity.sh BUILD OUT [VARIANT...]: the paired 60-degree LRI (plans/lri-paired-60.yaml)
+# on variants of plans/eye.yaml, one uncertain parameter moved to an end of its literature range
+# at a time (keratome-scene(5), THE EYE MODEL). Each variant is a sed edit of the scene; the
+# table (scripts/lri-table.sh rows) goes to OUT/sensitivity.tsv with the variant's name first.
+# The variants incision_0.14mm, incision_0.10mm, incision_0.07mm (named explicitly) refine the
+# mesh at the incision ring: the convergence series.
+set -euo pipefail
+B=$1 OUT=$2
+shift 2
+declare -A V=(
+  [defaults]=''
+  [E_inplane_1.5MPa]='s/E_inplane: 2.0 MPa/E_inplane: 1.5 MPa/g'
+  [E_inplane_4.0MPa]='s/E_inplane: 2.0 MPa/E_inplane: 4.0 MPa/g'
+  [G_transverse_9.5kPa]='s/G_transverse: 47 kPa/G_transverse: 9.5 kPa/g'
+  [G_transverse_94kPa]='s/G_transverse: 47 kPa/G_transverse: 94 kPa/g'
+  [limbal_density_1.46]='s/limbal_density: 1.91 /limbal_density: 1.46 /'
+  [limbal_density_2.36]='s/limbal_density: 1.91 /limbal_density: 2.36 /'
+  [limbal_band_1.0mm]='s/limbal_band: 1.5 mm/limbal_band: 1.0 mm/'
+  [limbal_band_2.0mm]='s/limbal_band: 1.5 mm/limbal_band: 2.0 mm/'
+  [nu_0.45]='s/nu: 0.49/nu: 0.45/g'
+  [nu_0.499]='s/nu: 0.49/nu: 0.499/g'
+  [IOP_10mmHg]='s/value: 15 mmHg/value: 10 mmHg/'
+  [IOP_21mmHg]='s/value: 15 mmHg/value: 21 mmHg/'
+  [sclera_E_1MPa]='s/sclera: {E: 3.0 MPa/sclera: {E: 1.0 MPa/'
+  [sclera_E_10MPa]='s/sclera: {E: 3.0 MPa/sclera: {E: 10.0 MPa/'
+  [extent_120deg]='s/extent: 150 deg/extent: 120 deg/'
+  [extent_170deg]='s/extent: 150 deg/extent: 170 deg/'
+  [no_prestress]='s/reference: prestressed/reference: unloaded/'
+  # the convergence series (not in the default list): incision size field at the rings
+  [incision_0.14mm]='s/^    incision: 0.2 mm /    incision: 0.14 mm /'
+  [incision_0.10mm]='s/^    incision: 0.2 mm /    incision: 0.10 mm /'
+  [incision_0.07mm]='s/^    incision: 0.2 mm /    incision: 0.07 mm /'
+)
+names=("$@")
+[ ${#names[@]} -gt 0 ] || names=(defaults E_inplane_1.5MPa E_inplane_4.0MPa G_transverse_9.5kPa
+    G_transverse_94kPa limbal_density_1.46 limbal_density_2.36 limbal_band_1.0mm limbal_band_2.0mm
+    nu_0.45 nu_0.499 IOP_10mmHg IOP_21mmHg sclera_E_1MPa sclera_E_10MPa extent_120deg
+    extent_170deg no_prestress)
+mkdir -p "$OUT"
+[ -f "$OUT/sensitivity.tsv" ] || printf 'variant\tplan\tarc\tpaired\tflattening_D\tsteepening_D\tcoupling_ratio\tdk_mean_D\tsia_D\tnodes\tseconds\n' > "$OUT/sensitivity.tsv"
+for n in "${names[@]}"; do
+    mkdir -p "$OUT/$n"
+    sed -e "${V[$n]:-}" plans/eye.yaml > "$OUT/$n/eye.yaml"
+    if [ -n "${V[$n]}" ] && cmp -s plans/eye.yaml "$OUT/$n/eye.yaml"; then
+        echo "lri-sensitivity: variant $n changed nothing" >&2; exit 1
+    fi
+    bash scripts/lri-table.sh "$B" "$OUT/$n/eye.yaml" "$OUT/$n" plans/lri-paired-60.yaml |
+        sed "s/^/$n\t/" | tee -a "$OUT/sensitivity.tsv"
+done

@@ -1,0 +1,248 @@
+/* test_aug_plan.c: the planned method (aug_plan.h) on a clamped box with nonzero Dirichlet
+ * values and pressures, cut layer by layer down to the clamped face (new nodes there are
+ * fixed) with forces on some steps and nodes split twice: every step against a fresh
+ * factorization of the cut mesh (kt_fem_solve), equilibrium of its reactions and loads; the
+ * whole-stream validation (a bad tet is reported as stream:line:col before any factoring);
+ * a stream with a fix edit is refused with its line (the caller falls back). */
+#include <stdio.h>
+
+#include "aug_plan.h"
+#include "test_aug_scenario.h"
+#include "kt_test.h"
+
+/* Split again the nodes the last step created: each moves its tets with centroid y > y0. */
+static int split_again(const kt_mesh *m, kt_step *st, int first, int last, double y0, kt_err *e)
+{
+    int next = m->nn;
+    for (int i = 0; i < st->n; i++) next += st->edit[i].kind == KT_EDIT_DUP;
+    for (int a = first; a < last; a++) {
+        int el[64], nel = 0, tot = 0;
+        for (int t = 0; t < m->ne; t++)
+            for (int l = 0; l < 4; l++)
+                if (m->tet[4 * t + l] == a) {
+                    tot++;
+                    if (tet_cx(m, t, 1) > y0 && nel < 64) el[nel++] = t;
+                    break;
+                }
+        if (nel == 0 || nel == tot) continue;
+        kt_edit ed = {.kind = KT_EDIT_DUP, .node = a, .new_node = next++, .nel = nel, .el = el};
+        if (kt_step_add(st, &ed, e)) return e->code;
+    }
+    return KT_OK;
+}
+
+/* The stream: cuts from the top layer to zmin, forces on every third, and after step 2 a
+ * second split of step 2's new nodes. Written to f as a keratome-edits stream. */
+static int write_stream(const scenario *s, FILE *f, int *nsteps, kt_err *e)
+{
+    kt_mesh cur;
+    if (kt_mesh_copy(&cur, &s->mesh, e)) return e->code;
+    kt_edits_header h = {.nn = s->mesh.nn, .ne = s->mesh.ne};
+    snprintf(h.scene, sizeof h.scene, "box");
+    snprintf(h.mesh, sizeof h.mesh, "box.msh");
+    kt_edits_write_header(f, &h, e);
+    kt_step st = {0};
+    int k = 0, prev_nn = cur.nn;
+    for (int layer = s->nz - 1; layer >= 0 && !e->code; layer--) {
+        kt_step_clear(&st);
+        st.index = ++k;
+        int nn0 = cur.nn;
+        cut_layer(s, &cur, &st, s->nx / 2, layer, k % 3 == 0 ? 0.002 : 0.0, e);
+        if (k == 3) split_again(&cur, &st, prev_nn, nn0, 0.5 * s->h * (s->ny - 1), e);
+        int *touched = NULL, nt = 0;
+        if (!e->code) kt_cut_apply(&cur, &st, &touched, &nt, e);
+        free(touched);
+        if (!e->code) kt_edits_write_step(f, &st, e);
+        prev_nn = nn0;
+    }
+    /* a step that only splits the previous step's nodes again */
+    kt_step_clear(&st);
+    st.index = ++k;
+    split_again(&cur, &st, prev_nn, cur.nn, 0.5 * s->h * (s->ny - 1), e);
+    if (!e->code && st.n) kt_edits_write_step(f, &st, e);
+    else k--;
+    *nsteps = k;
+    kt_step_free(&st);
+    kt_mesh_free(&cur);
+    return e->code;
+}
+
+static int read_plan(FILE *f, kt_plan *p, kt_err *e)
+{
+    rewind(f);
+    kt_edits_reader r;
+    memset(p, 0, sizeof *p);
+    if (kt_edits_open(&r, f, "stream", e)) return e->code;
+    return kt_plan_read(p, &r, e);
+}
+
+static void check_equilibrium(const kt_plan_state *S, int k)
+{
+    int n = 3 * S->mesh.nn;
+    for (int c = 0; c < 3; c++) {
+        double sum = 0, scale = 0;
+        for (int i = c; i < n; i += 3) {
+            sum += S->react[i] + S->f[i];
+            scale += fabs(S->react[i]) + fabs(S->f[i]);
+        }
+        CHECK(fabs(sum) <= 1e-9 * scale, "step %d: equilibrium in %c: %.3g of %.3g", k, "xyz"[c],
+              sum, scale);
+    }
+}
+
+/* Nodes of surface group name on mesh m (calloc'd). */
+static unsigned char *surface_nodes(const kt_mesh *m, const char *name)
+{
+    unsigned char *on = calloc((size_t)m->nn, 1);
+    const kt_group *g = kt_mesh_find_group(m, 2, name);
+    for (int t = 0; t < m->nf; t++)
+        if (m->tri_tag[t] == g->tag)
+            for (int a = 0; a < 3; a++) on[m->tri[3 * t + a]] = 1;
+    return on;
+}
+
+/* Largest relative difference on the marked nodes (NULL: all). */
+static double diff_on(const double *u, const double *ref, const unsigned char *on, int nn)
+{
+    double d = 0, m = 0;
+    for (int i = 0; i < 3 * nn; i++) {
+        if (on && !on[i / 3]) continue;
+        d = fmax(d, fabs(u[i] - ref[i]));
+        m = fmax(m, fabs(ref[i]));
+    }
+    return m > 0 ? d / m : d;
+}
+
+/* Every step of the plan against a fresh factorization (only on the surface group "only" when
+ * given: the restricted back substitution); returns the steps checked. */
+static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *only,
+                    const char *name)
+{
+    kt_err e = {0};
+    kt_plan p;
+    kt_mesh final = {0};
+    kt_plan_factor F = {0};
+    kt_plan_state S = {0};
+    int checked = 0, splits2 = 0;
+    CHECK(read_plan(f, &p, &e) == KT_OK, "%s: read: %s", name, e.msg);
+    CHECK(kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK, "%s: check: %s", name, e.msg);
+    CHECK(p.usable, "%s: plan refused: %s", name, p.why);
+    for (int a = p.nn0; a < p.nn; a++) splits2 += p.parent[a] >= p.nn0;
+    CHECK(splits2 > 0, "%s: the stream splits no node twice", name);
+    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, ordering, factor, &e) == KT_OK,
+          "%s: factor: %s", name, e.msg);
+    CHECK(kt_plan_state_init(&S, &p, &s->prob, &e) == KT_OK, "%s: state: %s", name, e.msg);
+    if (only) {
+        unsigned char *on = surface_nodes(&final, only);
+        CHECK(kt_plan_factor_restrict(&F, &p, on, &e) == KT_OK, "%s: restrict: %s", name, e.msg);
+        CHECK(F.want && F.want_cols < F.nfree, "%s: no restriction (%d of %d columns)", name,
+              F.want_cols, F.nfree);
+        free(on);
+    }
+    double *ref = calloc(3 * (size_t)p.nn, sizeof(double));
+    for (int k = 0; k <= p.nsteps && !e.code; k++) {
+        if (k > 0 && kt_plan_advance(&S, &p, &e)) break;
+        if (kt_plan_solve(&S, &p, &F, &s->prob, 1e-12, &e) ||
+            kt_plan_fresh(&S, &p, &s->prob, ref, &(double){0}, &e))
+            break;
+        unsigned char *on = only ? surface_nodes(&S.mesh, only) : NULL;
+        double d = diff_on(S.u, ref, on, S.mesh.nn);
+        free(on);
+        CHECK(d <= 1e-10, "%s: step %d: planned vs fresh %.3g", name, k, d);
+        CHECK(S.row.m == F.nfree_at[k] - F.nK, "%s: step %d: m", name, k);
+        if (!only) check_equilibrium(&S, k);
+        checked++;
+    }
+    CHECK(e.code == KT_OK, "%s: %s", name, e.msg);
+    CHECK(S.mesh.nn == p.nn, "%s: the last step reaches the final mesh", name);
+    if (!only) { /* a tolerance no rounding meets: one refinement step, then a loud failure */
+        kt_err e2 = {0};
+        CHECK(kt_plan_solve(&S, &p, &F, &s->prob, 1e-300, &e2) == KT_ERUN && S.row.iters == 1 &&
+                  strstr(e2.msg, "after a step of iterative refinement"),
+              "%s: tol 1e-300: rc %d iters %d '%s'", name, e2.code, S.row.iters, e2.msg);
+    }
+    free(ref);
+    kt_plan_state_free(&S);
+    kt_plan_factor_free(&F);
+    kt_mesh_free(&final);
+    kt_plan_free(&p);
+    return checked;
+}
+
+/* A stream from text: header for the box, then body. */
+static FILE *text_stream(const scenario *s, const char *body)
+{
+    FILE *f = tmpfile();
+    fprintf(f, "keratome-edits 1\nscene box\nmesh box.msh %d %d\n%s", s->mesh.nn, s->mesh.ne, body);
+    return f;
+}
+
+/* The first tet that holds node a, and one that does not. */
+static void tets_of(const kt_mesh *m, int a, int *with, int *without)
+{
+    *with = *without = -1;
+    for (int t = 0; t < m->ne; t++) {
+        int has = 0;
+        for (int l = 0; l < 4; l++) has |= m->tet[4 * t + l] == a;
+        if (has && *with < 0) *with = t;
+        if (!has && *without < 0) *without = t;
+    }
+}
+
+static void check_validation(scenario *s)
+{
+    int a = grid_node(s, 1, 1, s->nz - 1), with, without;
+    tets_of(&s->mesh, a, &with, &without);
+    char body[512];
+    /* step 2 moves a tet that does not hold the node: found before any factoring */
+    snprintf(body, sizeof body, "step 1\ndup %d %d 1 %d\nend\nstep 2\ndup %d %d 2 %d %d\nend\n",
+             a + 1, s->mesh.nn + 1, with + 1, a + 1, s->mesh.nn + 2, with + 1, without + 1);
+    FILE *f = text_stream(s, body);
+    kt_err e = {0};
+    kt_plan p;
+    kt_mesh final = {0};
+    CHECK(read_plan(f, &p, &e) == KT_OK, "bad tet: read: %s", e.msg);
+    CHECK(kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_EINPUT, "bad tet: not refused");
+    char want[64];
+    snprintf(want, sizeof want, "stream:8:");
+    CHECK(strncmp(e.msg, want, strlen(want)) == 0 && strstr(e.msg, "does not hold"),
+          "bad tet: message '%s'", e.msg);
+    kt_mesh_free(&final);
+    kt_plan_free(&p);
+    fclose(f);
+    /* a fix edit changes the intact block: usable = 0, with its line */
+    snprintf(body, sizeof body, "step 1\ndup %d %d 1 %d\nend\nstep 2\nfix %d x 0.001\nend\n",
+             a + 1, s->mesh.nn + 1, with + 1, a + 1);
+    f = text_stream(s, body);
+    e = (kt_err){0};
+    CHECK(read_plan(f, &p, &e) == KT_OK, "fix: read: %s", e.msg);
+    CHECK(kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK, "fix: check: %s", e.msg);
+    CHECK(!p.usable && strncmp(p.why, "stream:8:", 9) == 0 && strstr(p.why, "fixes node"),
+          "fix: usable %d why '%s'", p.usable, p.why);
+    kt_mesh_free(&final);
+    kt_plan_free(&p);
+    fclose(f);
+}
+
+int main(void)
+{
+    kt_err e = {0};
+    scenario s;
+    CHECK(scenario_box(&s, 5, 4, 6, 1.0, 1e-3, &e) == 0, "box: %s", e.msg);
+    FILE *f = tmpfile();
+    int nsteps = 0;
+    CHECK(write_stream(&s, f, &nsteps, &e) == KT_OK, "stream: %s", e.msg);
+    CHECK(nsteps == s.nz + 1, "stream: %d steps", nsteps);
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, NULL, "metis supernodal") ==
+              nsteps + 1, "metis supernodal: not every step checked");
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_NATURAL, KT_AUG_FACTOR_SIMPLICIAL, NULL,
+                   "natural simplicial") == nsteps + 1, "natural simplicial: not every step checked");
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_AMD, KT_AUG_FACTOR_SUPERNODAL, NULL, "amd supernodal") ==
+              nsteps + 1, "amd supernodal: not every step checked");
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, "zmax", "zmax only") ==
+              nsteps + 1, "zmax only: not every step checked");
+    fclose(f);
+    check_validation(&s);
+    scenario_free(&s);
+    return kt_test_done("test_aug_plan");
+}
