@@ -5,7 +5,10 @@
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libopenblas-dev
       libgmsh-dev gmsh libcgal-dev libcgal-demo libyaml-dev libpng-dev
-      python3-meshio python3-numpy gnuplot-nox)
+      python3-meshio python3-numpy gnuplot-nox
+      # planning studies (plans/studies): GNU parallel and a Slurm cluster (tests/study_slurm.sh
+      # starts a single-node one: munge, slurmctld, slurmd, the sbatch client)
+      parallel slurm-wlm munge)
 if [ "${1:-}" = --test ]; then
   pkgs+=(chromium python3-pil fonts-dejavu-core)
 elif [ $# -gt 0 ]; then

@@ -1,0 +1,272 @@
+/* nomo.c: inverse planning from a simulated nomogram (see nomo.h and lri-nomogram(1)). */
+#define _POSIX_C_SOURCE 200809L
+#include "nomo.h"
+
+#include "curv.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { C_EYE, C_AGE, C_CYL, C_AXIS, C_INC, C_ARC, C_DEPTH, C_DIAM, C_SIA, C_SIAAX, C_N };
+static const char *const col_name[C_N] = {"eye", "age_y", "cyl_pre_D", "axis_deg", "incisions",
+                                          "arc_deg", "depth", "diameter_mm", "sia_D", "sia_axis_deg"};
+
+/* Split line (modified in place) at tabs into at most max fields; returns the count and the
+ * 1-based column of each field in colno. */
+static int split_tabs(char *line, char **f, int *colno, int max)
+{
+    int n = 0;
+    char *p = line;
+    while (n < max) {
+        f[n] = p;
+        colno[n] = (int)(p - line) + 1;
+        n++;
+        char *t = strchr(p, '\t');
+        if (!t) break;
+        *t = '\0';
+        p = t + 1;
+    }
+    return n;
+}
+
+static int read_header(char *line, int *idx, const char *path, kt_err *e)
+{
+    char *f[256];
+    int colno[256];
+    int nf = split_tabs(line, f, colno, 256);
+    for (int c = 0; c < C_N; c++) {
+        idx[c] = -1;
+        for (int i = 0; i < nf; i++)
+            if (strcmp(f[i], col_name[c]) == 0) idx[c] = i;
+        if (idx[c] < 0)
+            return kt_fail(e, KT_EINPUT, "%s:1:1: expected a header with column %s", path,
+                           col_name[c]);
+    }
+    return KT_OK;
+}
+
+static int parse_case(char *line, int lineno, const int *idx, kt_nomo_case *k, const char *path,
+                      kt_err *e)
+{
+    char *f[256];
+    int colno[256];
+    int nf = split_tabs(line, f, colno, 256);
+    double *num[C_N] = {NULL, &k->age, &k->cyl_pre, &k->axis, NULL, &k->arc, &k->depth,
+                        &k->diameter, &k->sia, &k->sia_axis};
+    for (int c = 0; c < C_N; c++) {
+        int i = idx[c];
+        if (i >= nf)
+            return kt_fail(e, KT_EINPUT, "%s:%d:%zu: expected column %s", path, lineno,
+                           strlen(line) + 1, col_name[c]);
+        if (c == C_EYE) {
+            if (strlen(f[i]) >= sizeof k->eye || f[i][0] == '\0')
+                return kt_fail(e, KT_EINPUT, "%s:%d:%d: expected an eye name of 1-63 characters",
+                               path, lineno, colno[i]);
+            strcpy(k->eye, f[i]);
+        } else if (c == C_INC) {
+            if (kt_parse_int(f[i], &k->incisions) || (k->incisions != 1 && k->incisions != 2))
+                return kt_fail(e, KT_EINPUT, "%s:%d:%d: expected incisions 1 or 2", path, lineno,
+                               colno[i]);
+        } else if (kt_parse_double(f[i], num[c]) || !isfinite(*num[c])) {
+            return kt_fail(e, KT_EINPUT, "%s:%d:%d: expected a number in column %s", path, lineno,
+                           colno[i], col_name[c]);
+        }
+    }
+    if (!(k->arc > 0) || !(k->sia >= 0) || !(k->depth > 0) || !(k->diameter > 0))
+        return kt_fail(e, KT_EINPUT, "%s:%d:1: expected arc, depth and diameter > 0 and SIA >= 0",
+                       path, lineno);
+    return KT_OK;
+}
+
+int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e)
+{
+    memset(t, 0, sizeof *t);
+    FILE *in = fopen(path, "r");
+    if (!in) return kt_fail(e, KT_EINPUT, "%s:1:1: expected a readable nomogram.tsv", path);
+    char *line = NULL;
+    size_t cap = 0;
+    ssize_t len;
+    int idx[C_N], lineno = 0, rc = KT_OK, cap_c = 0;
+    while ((len = getline(&line, &cap, in)) >= 0) {
+        lineno++;
+        while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = '\0';
+        if (lineno == 1) {
+            if ((rc = read_header(line, idx, path, e))) break;
+            continue;
+        }
+        if (len == 0) continue;
+        if (t->n == cap_c) {
+            int nc = cap_c ? 2 * cap_c : 64;
+            kt_nomo_case *p = kt_realloc(t->c, (size_t)nc, sizeof *p, e);
+            if (!p) { rc = KT_ERUN; break; }
+            t->c = p;
+            cap_c = nc;
+        }
+        if ((rc = parse_case(line, lineno, idx, &t->c[t->n], path, e))) break;
+        t->n++;
+    }
+    free(line);
+    fclose(in);
+    if (rc == KT_OK && lineno == 0) rc = kt_fail(e, KT_EINPUT, "%s:1:1: expected a header", path);
+    if (rc == KT_OK && t->n == 0) rc = kt_fail(e, KT_EINPUT, "%s:2:1: expected a case", path);
+    if (rc) kt_nomo_free(t);
+    return rc;
+}
+
+void kt_nomo_free(kt_nomo *t)
+{
+    free(t->c);
+    t->c = NULL;
+    t->n = 0;
+}
+
+/* Whether case k is in the selection (count, depth, diameter). */
+static int selected(const kt_nomo_case *k, int n, double depth, double diameter)
+{
+    return k->incisions == n && fabs(k->depth - depth) < 1e-9 && fabs(k->diameter - diameter) < 1e-9;
+}
+
+/* The SIA of eye's selected cases at arc, linear between simulated arcs, 0 at arc 0; NAN beyond
+ * the longest. *near gets the simulated case nearest in arc. */
+static double sia_at(const kt_nomo *t, const char *eye, int n, double depth, double diameter,
+                     double arc, const kt_nomo_case **near)
+{
+    const kt_nomo_case *lo = NULL, *hi = NULL;
+    *near = NULL;
+    for (int i = 0; i < t->n; i++) {
+        const kt_nomo_case *k = &t->c[i];
+        if (strcmp(k->eye, eye) != 0 || !selected(k, n, depth, diameter)) continue;
+        if (k->arc <= arc && (!lo || k->arc > lo->arc)) lo = k;
+        if (k->arc >= arc && (!hi || k->arc < hi->arc)) hi = k;
+        if (!*near || fabs(k->arc - arc) < fabs((*near)->arc - arc)) *near = k;
+    }
+    if (!hi) return NAN;
+    double a0 = lo ? lo->arc : 0, s0 = lo ? lo->sia : 0;
+    if (hi->arc == a0) return hi->sia;
+    return s0 + (hi->sia - s0) * (arc - a0) / (hi->arc - a0);
+}
+
+/* For each simulated age: the eye of that age whose cylinder is nearest cyl among the
+ * selection. Then the ages bracketing age (clamped to the range): eyes lo/hi, weight w of hi. */
+static int pick_eyes(const kt_nomo *t, int n, double depth, double diameter, double cyl,
+                     double age, const kt_nomo_case **elo, const kt_nomo_case **ehi, double *w)
+{
+    *elo = *ehi = NULL;
+    for (int i = 0; i < t->n; i++) {
+        const kt_nomo_case *k = &t->c[i];
+        if (!selected(k, n, depth, diameter)) continue;
+        const kt_nomo_case **slot = NULL;
+        if (k->age <= age && (!*elo || k->age >= (*elo)->age)) slot = elo;
+        if (slot && *slot && k->age == (*slot)->age &&
+            fabs(k->cyl_pre - cyl) >= fabs((*slot)->cyl_pre - cyl))
+            slot = NULL;
+        if (slot) *slot = k;
+        slot = NULL;
+        if (k->age >= age && (!*ehi || k->age <= (*ehi)->age)) slot = ehi;
+        if (slot && *slot && k->age == (*slot)->age &&
+            fabs(k->cyl_pre - cyl) >= fabs((*slot)->cyl_pre - cyl))
+            slot = NULL;
+        if (slot) *slot = k;
+    }
+    if (!*elo && !*ehi) return 0;
+    if (!*elo) *elo = *ehi;
+    if (!*ehi) *ehi = *elo;
+    *w = (*ehi)->age > (*elo)->age ? (age - (*elo)->age) / ((*ehi)->age - (*elo)->age) : 0;
+    return 1;
+}
+
+/* The selection's simulated arcs of eye, ascending, into arcs (at most max); returns the count. */
+static int eye_arcs(const kt_nomo *t, const char *eye, int n, double depth, double diameter,
+                    double *arcs, int max)
+{
+    int m = 0;
+    for (int i = 0; i < t->n; i++) {
+        const kt_nomo_case *k = &t->c[i];
+        if (strcmp(k->eye, eye) != 0 || !selected(k, n, depth, diameter)) continue;
+        int j = m;
+        if (m == max) break;
+        while (j > 0 && arcs[j - 1] > k->arc) { arcs[j] = arcs[j - 1]; j--; }
+        if (j > 0 && arcs[j - 1] == k->arc) { memmove(arcs + j, arcs + j + 1, (size_t)(m - j) * sizeof *arcs); continue; }
+        arcs[j] = k->arc;
+        m++;
+    }
+    return m;
+}
+
+/* The double-angle sum of two astigmatisms (magnitude, axis in deg) into *mag, *ax; no axis
+ * (0) for a vanishing sum. */
+static void astig_add(double m1, double a1, double m2, double a2, double *mag, double *ax)
+{
+    double p[2], q[2];
+    kt_astig_xy((kt_astig){m1, a1}, p);
+    kt_astig_xy((kt_astig){m2, a2}, q);
+    kt_astig sum = kt_astig_from_xy(p[0] + q[0], p[1] + q[1]);
+    *mag = sum.mag;
+    *ax = sum.mag > 1e-9 ? sum.axis : 0;
+}
+
+static void answer_one(const kt_nomo *t, const kt_nomo_query *q, int n, double depth,
+                       double diameter, kt_nomo_answer *a)
+{
+    const kt_nomo_case *elo, *ehi, *near;
+    double w, cyl = q->k_steep - q->k_flat;
+    memset(a, 0, sizeof *a);
+    if (!pick_eyes(t, n, depth, diameter, cyl, q->age, &elo, &ehi, &w)) return;
+    double arcs[512];
+    int m = eye_arcs(t, elo->eye, n, depth, diameter, arcs, 512);
+    a->incisions = n;
+    a->depth = depth;
+    a->diameter = diameter;
+    a->age_lo = elo->age;
+    a->age_hi = ehi->age;
+    double prev_arc = 0, prev_sia = 0;
+    a->arc = a->arc_lo = a->arc_hi = 0;
+    for (int i = 0; i < m; i++) {
+        double s = (1 - w) * sia_at(t, elo->eye, n, depth, diameter, arcs[i], &near) +
+                   w * sia_at(t, ehi->eye, n, depth, diameter, arcs[i], &near);
+        if (isnan(s)) break; /* beyond the longest arc of the other age */
+        if (s >= q->target) {
+            a->reached = 1;
+            a->arc_lo = prev_arc;
+            a->arc_hi = arcs[i];
+            a->arc = s > prev_sia ? prev_arc + (arcs[i] - prev_arc) * (q->target - prev_sia) / (s - prev_sia)
+                                  : arcs[i];
+            if (a->arc == arcs[i]) a->arc_lo = arcs[i];
+            a->sia = q->target;
+            break;
+        }
+        prev_arc = a->arc = a->arc_lo = a->arc_hi = arcs[i];
+        prev_sia = a->sia = s;
+    }
+    /* the SIA's axis relative to the incised meridian, from the nearest simulated case */
+    sia_at(t, elo->eye, n, depth, diameter, a->arc, &near);
+    double sia_axis = near ? q->axis + (near->sia_axis - near->axis) : q->axis + 90;
+    astig_add(cyl, q->axis, a->sia, sia_axis, &a->residual, &a->residual_axis);
+}
+
+int kt_nomo_plan(const kt_nomo *t, const kt_nomo_query *q, kt_nomo_answer ans[2], kt_err *e)
+{
+    if (!(q->k_steep >= q->k_flat) || !(q->k_flat > 0))
+        return kt_fail(e, KT_EINPUT, "expected K steep >= K flat > 0 D");
+    if (!(q->axis >= 0 && q->axis < 180)) return kt_fail(e, KT_EINPUT, "expected an axis in [0, 180) deg");
+    if (!(q->age > 0 && q->age < 150)) return kt_fail(e, KT_EINPUT, "expected an age in years");
+    if (!(q->target >= 0)) return kt_fail(e, KT_EINPUT, "expected a target >= 0 D");
+    /* depth: the query's or the deepest; diameter: the query's or the most frequent */
+    double depth = q->depth, diameter = q->diameter;
+    if (!(depth > 0))
+        for (int i = 0; i < t->n; i++) depth = fmax(depth, t->c[i].depth);
+    if (!(diameter > 0)) {
+        int best = 0;
+        for (int i = 0; i < t->n; i++) {
+            int cnt = 0;
+            for (int j = 0; j < t->n; j++) cnt += fabs(t->c[j].diameter - t->c[i].diameter) < 1e-9;
+            if (cnt > best) { best = cnt; diameter = t->c[i].diameter; }
+        }
+    }
+    for (int n = 1; n <= 2; n++) answer_one(t, q, n, depth, diameter, &ans[n - 1]);
+    if (!ans[0].incisions && !ans[1].incisions)
+        return kt_fail(e, KT_EINPUT, "the nomogram has no case at depth %g and diameter %g mm",
+                       depth, diameter);
+    return KT_OK;
+}

@@ -1,0 +1,64 @@
+/* nomo.h: inverse planning from a simulated nomogram (the nomogram.tsv of the nomogram study,
+ * plans/studies/nomogram): given an eye's keratometry, age and the cylinder to correct, the arc
+ * of one incision and of a pair that the simulated cases say induce it, with the predicted
+ * residual cylinder. See lri-nomogram(1). */
+#ifndef KT_NOMO_H
+#define KT_NOMO_H
+
+#include "util.h"
+
+/* One simulated case: one arc of one run of the study. */
+typedef struct kt_nomo_case {
+    char eye[64];
+    double age;       /* years */
+    double cyl_pre;   /* pre-operative cylinder of the simulated eye, D */
+    double axis;      /* its steep axis, deg (the incisions are centred there) */
+    int incisions;    /* 1 or 2 */
+    double arc;       /* deg, of each incision */
+    double depth;     /* fraction of the local thickness */
+    double diameter;  /* mm */
+    double sia;       /* surgically induced astigmatism, D */
+    double sia_axis;  /* its axis, deg */
+} kt_nomo_case;
+
+/* The table: every case of a nomogram.tsv. */
+typedef struct kt_nomo {
+    kt_nomo_case *c;
+    int n;
+} kt_nomo;
+
+/* Read a nomogram.tsv (tab-separated, a header naming at least eye, age_y, cyl_pre_D, axis_deg,
+ * incisions, arc_deg, depth, diameter_mm, sia_D, sia_axis_deg). Bad input: KT_EINPUT with
+ * "path:line:col: expected ...". */
+int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e);
+void kt_nomo_free(kt_nomo *t);
+
+/* The question. depth and diameter <= 0: the deepest depth and the most frequent diameter of
+ * the table's cases. */
+typedef struct kt_nomo_query {
+    double k_steep, k_flat, axis; /* D, D, deg */
+    double age;                   /* years */
+    double target;                /* the cylinder to correct, D */
+    double depth, diameter;
+} kt_nomo_query;
+
+/* The answer for one incision count. */
+typedef struct kt_nomo_answer {
+    int incisions;         /* 1 or 2; 0: the table has no case with this count */
+    double arc;            /* deg: where the simulated SIA (interpolated in arc and age) meets
+                              the target, or the longest simulated arc when none reaches it */
+    double sia;            /* the SIA predicted at that arc, D */
+    double residual;       /* the predicted post-operative cylinder |pre + SIA|, D */
+    double residual_axis;  /* and its axis, deg */
+    double arc_lo, arc_hi; /* the simulated arcs the answer lies between (equal when exact) */
+    double age_lo, age_hi; /* the simulated ages used (equal: one age; the query's age clamped
+                              to the table's range when outside it) */
+    int reached;           /* 1 when some simulated arc induces the target */
+    double depth, diameter;
+} kt_nomo_answer;
+
+/* Answer q from t for one incision and for a pair: ans[0] one, ans[1] a pair. Returns KT_OK,
+ * or KT_EINPUT when the query is out of range or the table has no usable case. */
+int kt_nomo_plan(const kt_nomo *t, const kt_nomo_query *q, kt_nomo_answer ans[2], kt_err *e);
+
+#endif
