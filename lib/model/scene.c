@@ -5,9 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene_int.h"
 #include "yml.h"
 
-#define PI 3.14159265358979323846
 
 static const char *const TOP_KEYS[] = {"name", "description", "model", "order", "ordering", "eye",
                                        "box", "surface", "image", "materials", "loads",
@@ -18,41 +18,18 @@ static const char *const FACES[] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zma
 static const char *const AXES[] = {"x", "y", "z", NULL};
 
 /* Surface groups each model writes (the eye adds its incision rings, CGAL models 'below'). */
-static const char *const EYE_SURFACES[] = {"anterior", "inner", "fixed", "outer", NULL};
+const char *const kt_scene_eye_surfaces[] = {"anterior", "inner", "fixed", "outer", NULL};
 static const char *const BOX_SURFACES[] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax", "fixed", NULL};
 static const char *const CGAL_SURFACES[] = {"boundary", NULL};
 static const char *const EYE_REGIONS[] = {"cornea", "limbus", "sclera", NULL};
 static const char *const BODY_REGIONS[] = {"body", NULL};
-
-/* Literature defaults of the eye; sources in man/man5/keratome-scene.5 and plans/eye.yaml. */
-static void eye_defaults(kt_eye *eye)
-{
-    memset(eye, 0, sizeof *eye);
-    eye->r_ant_steep = eye->r_ant_flat = 7.8; /* Le Grand schematic eye */
-    eye->steep_axis = 90.0;                   /* with-the-rule convention when toric */
-    eye->r_post = 6.7;                        /* schematic eyes 6.5 (Le Grand) - 6.8 (Gullstrand) */
-    eye->t_central = 0.54;                    /* Doughty & Zaman 2000 */
-    eye->t_peripheral = 0.67;                 /* Martola & Baum 1968 */
-    eye->wtw = 11.7;                          /* Rufer et al. 2005 */
-    eye->limbus_width = 1.0;                  /* Van Buskirk 1989: about 1-1.5 mm */
-    eye->sclera_thickness = 0.53;             /* Olsen et al. 1998, at the limbus */
-    eye->globe_radius = 12.0;                 /* axial length about 24 mm */
-    eye->extent = 90.0;                       /* anterior segment: cut at the equator */
-    eye->optical_zone = 7.0;
-    eye->fibre_band = 1.5;     /* lamellae turn within about 1-2 mm of the limbus (Meek & Newton) */
-    eye->fibre_density = 1.91; /* limbal fibril density / central, WAXS (PMC6443175) */
-    eye->h_optical = 0.25;
-    eye->h_incision = 0.15;
-    eye->h_cornea = 0.4;
-    eye->h_sclera = 1.2;
-}
 
 static void scene_defaults(kt_scene *s)
 {
     memset(s, 0, sizeof *s);
     s->model = KT_MODEL_EYE;
     s->order = 1;
-    eye_defaults(&s->eye);
+    kt_scene_eye_defaults(&s->eye);
     s->box.fixed_face = 4; /* zmin */
     s->cgal.unit = 1.0;
     s->ordering_centre = NAN;
@@ -81,7 +58,7 @@ static void base_name(const char *path, char *name, size_t size)
     snprintf(name, size, "%.*s", len, b);
 }
 
-static int in_list(const char *const *list, const char *s)
+int kt_scene_in_list(const char *const *list, const char *s)
 {
     for (int i = 0; list && list[i]; i++)
         if (strcmp(list[i], s) == 0) return 1;
@@ -98,7 +75,7 @@ static int valid_name(const char *s)
     return 1;
 }
 
-static int name_field(kt_yml *y, const yaml_node_t *n, const char *what, char *buf, kt_err *e)
+int kt_scene_name_field(kt_yml *y, const yaml_node_t *n, const char *what, char *buf, kt_err *e)
 {
     if (kt_yml_string(y, n, what, buf, KT_NAME_MAX, e)) return e->code;
     if (!valid_name(buf))
@@ -107,169 +84,10 @@ static int name_field(kt_yml *y, const yaml_node_t *n, const char *what, char *b
     return KT_OK;
 }
 
-static kt_yml_bounds range(double lo, double hi, int lo_open, int hi_open)
+kt_yml_bounds kt_scene_range(double lo, double hi, int lo_open, int hi_open)
 {
     kt_yml_bounds b = {lo, hi, lo_open, hi_open};
     return b;
-}
-
-/* ---- eye ------------------------------------------------------------------------------- */
-
-static const char *const RING_KEYS[] = {"name", "diameter", "depth", "depth_fraction", NULL};
-
-static int parse_ring(kt_yml *y, const yaml_node_t *n, int i, kt_ring *r, kt_err *e)
-{
-    char what[64];
-    snprintf(what, sizeof what, "eye.incision_rings[%d]", i);
-    if (kt_yml_check_map(y, n, what, RING_KEYS, e)) return e->code;
-    snprintf(r->name, sizeof r->name, "incision-ring-%d", i + 1);
-    yaml_node_t *v = kt_yml_get(y, n, "name");
-    char f[96];
-    snprintf(f, sizeof f, "%s.name", what);
-    if (v && name_field(y, v, f, r->name, e)) return e->code;
-    if (!kt_yml_require(y, n, "diameter", what, e)) return e->code;
-    if (kt_yml_key_quantity(y, n, what, "diameter", KT_UNIT_LENGTH, KT_YML_POSITIVE, &r->diameter, e))
-        return e->code;
-    yaml_node_t *d = kt_yml_get(y, n, "depth"), *df = kt_yml_get(y, n, "depth_fraction");
-    if (!d == !df)
-        return kt_yml_fail(y, d ? d : n, e, "%s: expected exactly one of 'depth' or 'depth_fraction'", what);
-    if (kt_yml_key_quantity(y, n, what, "depth", KT_UNIT_LENGTH, KT_YML_POSITIVE, &r->depth, e))
-        return e->code;
-    return kt_yml_key_number(y, n, what, "depth_fraction", range(0, 1, 1, 1), &r->depth_fraction, e);
-}
-
-static int parse_rings(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
-{
-    if (kt_yml_check_seq(y, n, "eye.incision_rings", 0, KT_SCENE_MAX, e)) return e->code;
-    eye->nring = kt_yml_seq_len(n);
-    for (int i = 0; i < eye->nring; i++) {
-        yaml_node_t *item = kt_yml_seq_item(y, n, i);
-        if (parse_ring(y, item, i, &eye->ring[i], e)) return e->code;
-        const char *name = eye->ring[i].name;
-        if (in_list(EYE_SURFACES, name))
-            return kt_yml_fail(y, item, e, "eye.incision_rings[%d].name: expected a new name, '%s' is a surface of the eye",
-                               i, name);
-        for (int j = 0; j < i; j++)
-            if (strcmp(eye->ring[j].name, name) == 0)
-                return kt_yml_fail(y, item, e, "eye.incision_rings[%d].name: expected a unique name, '%s' is used twice",
-                                   i, name);
-    }
-    return KT_OK;
-}
-
-static const char *const SIZE_KEYS[] = {"optical_zone", "incision", "cornea", "sclera", NULL};
-
-static int parse_sizes(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
-{
-    const char *w = "eye.mesh_size";
-    if (kt_yml_check_map(y, n, w, SIZE_KEYS, e)) return e->code;
-    kt_yml_bounds b = range(0.005, 20, 0, 0);
-    if (kt_yml_key_quantity(y, n, w, "optical_zone", KT_UNIT_LENGTH, b, &eye->h_optical, e) ||
-        kt_yml_key_quantity(y, n, w, "incision", KT_UNIT_LENGTH, b, &eye->h_incision, e) ||
-        kt_yml_key_quantity(y, n, w, "cornea", KT_UNIT_LENGTH, b, &eye->h_cornea, e) ||
-        kt_yml_key_quantity(y, n, w, "sclera", KT_UNIT_LENGTH, b, &eye->h_sclera, e))
-        return e->code;
-    return KT_OK;
-}
-
-static const char *const EYE_KEYS[] = {
-    "anterior_radius", "anterior_radius_steep", "anterior_radius_flat", "steep_axis",
-    "posterior_radius", "central_thickness", "peripheral_thickness", "white_to_white",
-    "limbus_width", "sclera_thickness", "globe_radius", "extent", "optical_zone", "mesh_size",
-    "incision_rings", "fibres", NULL};
-static const char *const FIBRE_KEYS[] = {"limbal_band", "limbal_density", NULL};
-
-/* Geometric consistency between fields; messages point at the field that breaks it. */
-static int check_eye(kt_yml *y, const yaml_node_t *n, const kt_eye *eye, kt_err *e)
-{
-    /* Geometry of lib/model/eye_geom.h: the cornea ends at rho = wtw/2 on the globe sphere, the
-     * limbus is the band out to wtw/2 + limbus_width. Rings and the optical zone must stay
-     * limbus_width/2 inside the corneal edge (in clear cornea, as LRIs are placed). */
-    double clear = eye->wtw - eye->limbus_width;
-    double r_ant = fmin(eye->r_ant_steep, eye->r_ant_flat);
-    double r_limbus = 0.5 * eye->wtw + eye->limbus_width;
-    yaml_node_t *at;
-    if (eye->wtw >= 2 * r_ant) {
-        at = kt_yml_get(y, n, "white_to_white");
-        return kt_yml_fail(y, at ? at : n, e, "eye.white_to_white: expected less than twice the steep anterior radius (%g mm), got %g mm",
-                           2 * r_ant, eye->wtw);
-    }
-    if (eye->limbus_width >= 0.5 * eye->wtw) {
-        at = kt_yml_get(y, n, "limbus_width");
-        return kt_yml_fail(y, at ? at : n, e, "eye.limbus_width: expected less than half of white_to_white (%g mm), got %g mm",
-                           0.5 * eye->wtw, eye->limbus_width);
-    }
-    if (eye->globe_radius <= r_limbus) {
-        at = kt_yml_get(y, n, "globe_radius");
-        return kt_yml_fail(y, at ? at : n, e, "eye.globe_radius: expected more than the limbus's outer radius white_to_white/2 + limbus_width (%g mm), got %g mm",
-                           r_limbus, eye->globe_radius);
-    }
-    double polar = asin(r_limbus / eye->globe_radius) * 180 / PI;
-    if (eye->extent <= polar) {
-        at = kt_yml_get(y, n, "extent");
-        return kt_yml_fail(y, at ? at : n, e, "eye.extent: expected more than the polar angle of the limbus's outer edge (%.1f deg), got %g deg",
-                           polar, eye->extent);
-    }
-    if (eye->optical_zone > clear) {
-        at = kt_yml_get(y, n, "optical_zone");
-        return kt_yml_fail(y, at ? at : n, e, "eye.optical_zone: expected a diameter inside the clear cornea (<= white_to_white - limbus_width = %g mm), got %g mm",
-                           clear, eye->optical_zone);
-    }
-    yaml_node_t *rings = kt_yml_get(y, n, "incision_rings");
-    double t_max = fmax(eye->t_central, eye->t_peripheral);
-    for (int i = 0; i < eye->nring; i++) {
-        const kt_ring *r = &eye->ring[i];
-        yaml_node_t *item = kt_yml_seq_item(y, rings, i);
-        yaml_node_t *d = kt_yml_get(y, item, "diameter");
-        if (r->diameter <= eye->optical_zone || r->diameter > clear)
-            return kt_yml_fail(y, d, e, "eye.incision_rings[%d].diameter: expected a diameter in (%g, %g] mm (outside the optical zone, inside white_to_white - limbus_width), got %g mm",
-                               i, eye->optical_zone, clear, r->diameter);
-        if (r->depth_fraction == 0 && r->depth >= t_max)
-            return kt_yml_fail(y, kt_yml_get(y, item, "depth"), e, "eye.incision_rings[%d].depth: expected less than the corneal thickness (%g mm), got %g mm",
-                               i, t_max, r->depth);
-    }
-    return KT_OK;
-}
-
-static int parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
-{
-    const char *w = "eye";
-    if (kt_yml_check_map(y, n, w, EYE_KEYS, e)) return e->code;
-    yaml_node_t *one = kt_yml_get(y, n, "anterior_radius");
-    if (one && (kt_yml_get(y, n, "anterior_radius_steep") || kt_yml_get(y, n, "anterior_radius_flat")))
-        return kt_yml_fail(y, one, e, "eye.anterior_radius: expected either anterior_radius or the steep/flat pair, not both");
-    kt_yml_bounds radius = range(1, 50, 0, 0), thick = range(0.05, 5, 0, 0);
-    double r = eye->r_ant_steep;
-    if (kt_yml_key_quantity(y, n, w, "anterior_radius", KT_UNIT_LENGTH, radius, &r, e)) return e->code;
-    eye->r_ant_steep = eye->r_ant_flat = r;
-    if (kt_yml_key_quantity(y, n, w, "anterior_radius_steep", KT_UNIT_LENGTH, radius, &eye->r_ant_steep, e) ||
-        kt_yml_key_quantity(y, n, w, "anterior_radius_flat", KT_UNIT_LENGTH, radius, &eye->r_ant_flat, e) ||
-        kt_yml_key_quantity(y, n, w, "steep_axis", KT_UNIT_ANGLE, range(0, 180, 0, 0), &eye->steep_axis, e) ||
-        kt_yml_key_quantity(y, n, w, "posterior_radius", KT_UNIT_LENGTH, radius, &eye->r_post, e) ||
-        kt_yml_key_quantity(y, n, w, "central_thickness", KT_UNIT_LENGTH, thick, &eye->t_central, e) ||
-        kt_yml_key_quantity(y, n, w, "peripheral_thickness", KT_UNIT_LENGTH, thick, &eye->t_peripheral, e) ||
-        kt_yml_key_quantity(y, n, w, "white_to_white", KT_UNIT_LENGTH, range(2, 30, 0, 0), &eye->wtw, e) ||
-        kt_yml_key_quantity(y, n, w, "limbus_width", KT_UNIT_LENGTH, range(0, 10, 1, 0), &eye->limbus_width, e) ||
-        kt_yml_key_quantity(y, n, w, "sclera_thickness", KT_UNIT_LENGTH, thick, &eye->sclera_thickness, e) ||
-        kt_yml_key_quantity(y, n, w, "globe_radius", KT_UNIT_LENGTH, radius, &eye->globe_radius, e) ||
-        kt_yml_key_quantity(y, n, w, "extent", KT_UNIT_ANGLE, range(0, 180, 1, 0), &eye->extent, e) ||
-        kt_yml_key_quantity(y, n, w, "optical_zone", KT_UNIT_LENGTH, KT_YML_POSITIVE, &eye->optical_zone, e))
-        return e->code;
-    yaml_node_t *fib = kt_yml_get(y, n, "fibres");
-    if (fib && (kt_yml_check_map(y, fib, "eye.fibres", FIBRE_KEYS, e) ||
-                kt_yml_key_quantity(y, fib, "eye.fibres", "limbal_band", KT_UNIT_LENGTH,
-                                    range(0, 5, 0, 0), &eye->fibre_band, e) ||
-                kt_yml_key_number(y, fib, "eye.fibres", "limbal_density", range(1, 5, 0, 0),
-                                  &eye->fibre_density, e)))
-        return e->code;
-    if (eye->r_ant_steep > eye->r_ant_flat)
-        return kt_yml_fail(y, kt_yml_get(y, n, "anterior_radius_steep"), e,
-                           "eye.anterior_radius_steep: expected at most anterior_radius_flat (%g mm), got %g mm",
-                           eye->r_ant_flat, eye->r_ant_steep);
-    yaml_node_t *v;
-    if ((v = kt_yml_get(y, n, "mesh_size")) && parse_sizes(y, v, eye, e)) return e->code;
-    if ((v = kt_yml_get(y, n, "incision_rings")) && parse_rings(y, v, eye, e)) return e->code;
-    return check_eye(y, n, eye, e);
 }
 
 /* ---- box and CGAL models ---------------------------------------------------------------- */
@@ -349,17 +167,17 @@ static int parse_ordering(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *
     yaml_node_t *centre = kt_yml_get(y, n, "centre");
     if (centre && s->model != KT_MODEL_EYE)
         return kt_yml_fail(y, centre, e, "ordering.centre: expected only on the eye model");
-    if (kt_yml_key_quantity(y, n, "ordering", "centre", KT_UNIT_ANGLE, range(0, 360, 0, 1),
+    if (kt_yml_key_quantity(y, n, "ordering", "centre", KT_UNIT_ANGLE, kt_scene_range(0, 360, 0, 1),
                             &s->ordering_centre, e))
         return e->code;
     yaml_node_t *sector = kt_yml_get(y, n, "sector");
     if (sector && s->model != KT_MODEL_EYE)
         return kt_yml_fail(y, sector, e, "ordering.sector: expected only on the eye model");
-    if (kt_yml_key_quantity(y, n, "ordering", "sector", KT_UNIT_ANGLE, range(0, 90, 1, 0),
+    if (kt_yml_key_quantity(y, n, "ordering", "sector", KT_UNIT_ANGLE, kt_scene_range(0, 90, 1, 0),
                             &s->ordering_sector, e))
         return e->code;
     yaml_node_t *last = kt_yml_get(y, n, "last");
-    return last ? name_field(y, last, "ordering.last", s->ordering_set, e) : KT_OK;
+    return last ? kt_scene_name_field(y, last, "ordering.last", s->ordering_set, e) : KT_OK;
 }
 
 static const char *const MAT_KEYS[] = {"model", "E", "nu", "E_inplane", "E_inplane_2",
@@ -387,12 +205,12 @@ static int add_mat(kt_scene *s, const char *region, double E, double nu)
 static int known_region(const kt_scene *s, const char *name)
 {
     if (strcmp(name, "default") == 0) return 1;
-    if (s->model == KT_MODEL_EYE) return in_list(EYE_REGIONS, name);
+    if (s->model == KT_MODEL_EYE) return kt_scene_in_list(EYE_REGIONS, name);
     if (s->model == KT_MODEL_IMAGE) {
         int v;
         return strncmp(name, "label-", 6) == 0 && kt_parse_int(name + 6, &v) == 0 && v > 0;
     }
-    return in_list(BODY_REGIONS, name);
+    return kt_scene_in_list(BODY_REGIONS, name);
 }
 
 /* A fibre region: E_inplane (both in-plane directions unless E_inplane_2 gives the second),
@@ -412,7 +230,7 @@ static int parse_fibre_mat(kt_yml *y, const yaml_node_t *v, const char *what, kt
     r->E1 = E1;
     if (kt_yml_key_quantity(y, v, what, "E_inplane_2", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &r->E2, e) ||
         kt_yml_key_quantity(y, v, what, "G_transverse", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &r->Gt, e) ||
-        kt_yml_key_number(y, v, what, "nu", range(-1, 0.5, 1, 1), &r->nu, e))
+        kt_yml_key_number(y, v, what, "nu", kt_scene_range(-1, 0.5, 1, 1), &r->nu, e))
         return e->code;
     return KT_OK;
 }
@@ -456,7 +274,7 @@ static int parse_materials(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err 
         if ((!r->E && !E) || (!r->nu && !nu))
             return kt_yml_fail(y, v, e, "%s: expected both 'E' and 'nu' (no default for this region)", what);
         if (kt_yml_key_quantity(y, v, what, "E", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &r->E, e) ||
-            kt_yml_key_number(y, v, what, "nu", range(-1, 0.5, 1, 1), &r->nu, e))
+            kt_yml_key_number(y, v, what, "nu", kt_scene_range(-1, 0.5, 1, 1), &r->nu, e))
             return e->code;
     }
     return KT_OK;
@@ -489,7 +307,7 @@ static int parse_pressure(kt_yml *y, const yaml_node_t *n, const char *what, kt_
     char f[96];
     snprintf(f, sizeof f, "%s.surface", what);
     yaml_node_t *surf = kt_yml_require(y, n, "surface", what, e);
-    if (!surf || name_field(y, surf, f, p->surface, e)) return e->code;
+    if (!surf || kt_scene_name_field(y, surf, f, p->surface, e)) return e->code;
     if (!kt_yml_require(y, n, "value", what, e)) return e->code;
     return kt_yml_key_quantity(y, n, what, "value", KT_UNIT_PRESSURE, KT_YML_ANY, &p->p, e);
 }
@@ -500,7 +318,7 @@ static int parse_loads(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *e)
     /* What the geometry is: the measured shape under these loads (default), or stress-free. */
     if (kt_yml_key_choice(y, n, "loads", "reference", REFERENCES, &s->reference, e) ||
         kt_yml_key_quantity(y, n, "loads", "reference_tolerance", KT_UNIT_LENGTH,
-                            range(1e-9, 0.01, 0, 0), &s->reference_tol, e))
+                            kt_scene_range(1e-9, 0.01, 0, 0), &s->reference_tol, e))
         return e->code;
     s->npressure = 0;
     yaml_node_t *p = kt_yml_get(y, n, "pressure");
@@ -556,7 +374,7 @@ static int parse_fix(kt_yml *y, const yaml_node_t *n, const char *what, kt_fixat
     if (!surf && !below) return kt_yml_fail(y, n, e, "%s: expected key 'surface' or 'below'", what);
     snprintf(f->surface, sizeof f->surface, "fixed");
     snprintf(fld, sizeof fld, "%s.surface", what);
-    if (surf && name_field(y, surf, fld, f->surface, e)) return e->code;
+    if (surf && kt_scene_name_field(y, surf, fld, f->surface, e)) return e->code;
     snprintf(fld, sizeof fld, "%s.below", what);
     if (below && parse_below(y, below, fld, f, e)) return e->code;
     snprintf(fld, sizeof fld, "%s.components", what);
@@ -594,7 +412,7 @@ static int known_surface(const kt_scene *s, const char *name)
     if (s->model == KT_MODEL_EYE) {
         for (int i = 0; i < s->eye.nring; i++)
             if (strcmp(s->eye.ring[i].name, name) == 0) return 1;
-        return in_list(EYE_SURFACES, name) && (strcmp(name, "fixed") || s->eye.extent < 180);
+        return kt_scene_in_list(kt_scene_eye_surfaces, name) && (strcmp(name, "fixed") || s->eye.extent < 180);
     }
     for (int i = 0; i < s->nfix; i++)
         if (s->fix[i].below_axis >= 0 && strcmp(s->fix[i].surface, name) == 0) return 1;
@@ -602,9 +420,9 @@ static int known_surface(const kt_scene *s, const char *name)
         /* The fixed face is renamed "fixed" and no longer has its own name. */
         int face = s->box.fixed_face;
         if (!strcmp(name, "fixed")) return face >= 0;
-        return in_list(BOX_SURFACES, name) && !(face >= 0 && !strcmp(name, FACES[face]));
+        return kt_scene_in_list(BOX_SURFACES, name) && !(face >= 0 && !strcmp(name, FACES[face]));
     }
-    return in_list(CGAL_SURFACES, name);
+    return kt_scene_in_list(CGAL_SURFACES, name);
 }
 
 /* The node of item i's key in a sequence of mappings, for messages (NULL-safe). */
@@ -686,7 +504,7 @@ static int parse_model(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
     }
     yaml_node_t *b = kt_yml_get(y, root, blocks[s->model - 1]);
     switch (s->model) {
-    case KT_MODEL_EYE: return b ? parse_eye(y, b, &s->eye, e) : KT_OK;
+    case KT_MODEL_EYE: return b ? kt_scene_parse_eye(y, b, &s->eye, e) : KT_OK;
     case KT_MODEL_BOX:
         if (!b) return kt_yml_fail(y, root, e, "expected key 'box' for model box");
         return parse_box(y, b, &s->box, e);
@@ -700,7 +518,7 @@ static int parse_scene(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
 {
     if (kt_yml_check_map(y, root, "scene", TOP_KEYS, e)) return e->code;
     yaml_node_t *v;
-    if ((v = kt_yml_get(y, root, "name")) && name_field(y, v, "name", s->name, e)) return e->code;
+    if ((v = kt_yml_get(y, root, "name")) && kt_scene_name_field(y, v, "name", s->name, e)) return e->code;
     char desc[1024];
     if (kt_yml_key_string(y, root, "", "description", desc, sizeof desc, e)) return e->code;
     int model = s->model - 1;

@@ -1,0 +1,20 @@
+/* scene_int.h: what the scene reader's files share (private to lib/model/scene*.c). */
+#ifndef KT_SCENE_INT_H
+#define KT_SCENE_INT_H
+
+#include "scene.h"
+#include "yml.h"
+
+extern const char *const kt_scene_eye_surfaces[];
+
+/* s is one of the NULL-terminated list. */
+int kt_scene_in_list(const char *const *list, const char *s);
+/* A group name (letters, digits, '-', '_', '.') from node n into buf (KT_NAME_MAX). */
+int kt_scene_name_field(kt_yml *y, const yaml_node_t *n, const char *what, char *buf, kt_err *e);
+kt_yml_bounds kt_scene_range(double lo, double hi, int lo_open, int hi_open);
+
+/* The eye block (scene_eye.c). */
+void kt_scene_eye_defaults(kt_eye *eye);
+int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e);
+
+#endif
