@@ -1,6 +1,7 @@
 /* augsolve_run.c: the augsolve tool's work: mesh + scene + edits stream -> run folder with one VTK
  * per step, steps.tsv and run.yaml (all written atomically). */
 #define _XOPEN_SOURCE 700
+#include <inttypes.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -68,7 +69,9 @@ static void abs_path(const char *p, char *out, size_t n)
     else snprintf(out, n, "%s", p);
 }
 
-static int open_edits(run *r, const char *path, kt_err *e)
+/* The edits stream's header, checked against the mesh: counts, and the content hash when the
+ * header has one (headers written before the hash are checked by their counts alone). */
+static int open_edits(run *r, const char *path, const char *mesh, kt_err *e)
 {
     r->edits = strcmp(path, "-") == 0 ? stdin : fopen(path, "r");
     if (!r->edits) return kt_fail(e, KT_EINPUT, "%s: cannot open the edits stream", path);
@@ -78,6 +81,11 @@ static int open_edits(run *r, const char *path, kt_err *e)
         return kt_fail(e, KT_EINPUT, "%s: the edits apply to a mesh of %d nodes and %d tets, "
                        "expected the %d nodes and %d tets of the mesh given", path, r->rd.h.nn,
                        r->rd.h.ne, r->mesh.nn, r->mesh.ne);
+    uint64_t mine = kt_mesh_hash(&r->mesh);
+    if (r->rd.h.has_hash && r->rd.h.hash != mine)
+        return kt_fail(e, KT_EINPUT, "%s: the edits were made for another mesh: header hash "
+                       "%016" PRIx64 ", mesh %s hashes to %016" PRIx64 " (same counts, other "
+                       "coordinates or tets)", path, r->rd.h.hash, mesh, mine);
     return KT_OK;
 }
 
@@ -203,14 +211,16 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     snprintf(path, sizeof path, "%s/run.yaml", o->run_dir);
     kt_out out;
     if (kt_out_open(&out, path, e)) return e->code;
-    abs_path(o->mesh, buf, sizeof buf);
+    /* paths relative to the run folder: a tree holding the run and its inputs can move */
+    kt_path_relative(o->mesh, o->run_dir, buf, sizeof buf);
     yaml_str(out.f, "mesh", buf);
-    yaml_str(out.f, "scene", r->scene_path);
+    kt_path_relative(r->scene_path, o->run_dir, buf, sizeof buf);
+    yaml_str(out.f, "scene", buf);
     if (r->rd.h.plan[0]) {
-        abs_path(r->rd.h.plan, buf, sizeof buf);
+        kt_path_relative(r->rd.h.plan, o->run_dir, buf, sizeof buf);
         yaml_str(out.f, "plan", buf);
     }
-    abs_path(o->edits, buf, sizeof buf);
+    kt_path_relative(o->edits, o->run_dir, buf, sizeof buf);
     yaml_str(out.f, "edits", buf);
     fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(o->aug.method),
             r->mesh.order, steps);
@@ -424,7 +434,7 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     if (!r) return e->code;
     int steps = 0;
     r->quiet = o.aug.quiet;
-    if (kt_msh_read(o.mesh, &r->mesh, e) || open_edits(r, o.edits, e) ||
+    if (kt_msh_read(o.mesh, &r->mesh, e) || open_edits(r, o.edits, o.mesh, e) ||
         load_problem(r, o.scene ? o.scene : r->rd.h.scene, e) || kt_mkdir_p(o.run_dir, e) ||
         open_tsv(r, &o, e))
         goto done;
