@@ -21,6 +21,8 @@ if [ "${KT_FUZZ_NOBUILD:-0}" != 1 ]; then
     cmake --build "$build" -j"$(nproc)" --target "${targets[@]}" >/dev/null || exit 1
 fi
 mkdir -p "$build/artifacts"
+# The harnesses write each input to a file: in memory (tmpfs) when there is one, 15x faster.
+[ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ] && export TMPDIR=/dev/shm
 fail=0
 printf '%-11s %12s %8s %8s %8s  %s\n' harness executions cov ft seconds result
 for h in "${harnesses[@]}"; do

@@ -76,4 +76,36 @@ for key in mesh scene plan edits; do
     if [ -n "$p" ] && [ -f "$T/moved/run/$p" ]; then ok "after the move, run.yaml $key '$p' resolves"
     else bad "after the move, run.yaml $key '$p' does not resolve"; fi
 done
+# Two augsolve runs into one folder: the second is refused while the first holds it (its edits
+# come from a pipe that stays open for a few seconds after the last step).
+B2="$T/moved/in"
+"$B/cutplan" -q "$B2/cut-beam-4.yaml" "$B2/beam.msh" -o "$B2/cut.edits" || bad "cutplan after the move"
+{ cat "$B2/cut.edits"; sleep 4; } | "$B/augsolve" -q "$B2/beam.msh" - -o "$T/shared" --no-vtk 2>"$T/errA" &
+apid=$!
+for _ in $(seq 40); do [ -e "$T/shared/.augsolve.lock" ] && break; sleep 0.1; done
+"$B/augsolve" -q "$B2/beam.msh" "$B2/cut.edits" -o "$T/shared" --no-vtk 2>"$T/errB"
+rc=$?
+if [ $rc -eq 2 ] && grep -q "another augsolve is writing into this run folder" "$T/errB"; then
+    ok "second augsolve into a busy folder: exit 2: $(cat "$T/errB")"
+else bad "second augsolve into a busy folder: exit $rc"; cat "$T/errB"; fi
+wait $apid && [ -f "$T/shared/run.yaml" ] && ok "the first run completes" ||
+    { bad "the first run failed"; cat "$T/errA"; }
+
+# A re-run killed half-way: the earlier result's run.yaml is gone as soon as the re-run claims
+# the folder, so the mix of old and new step files is never taken for a result.
+mkfifo "$T/fifo"
+"$B/augsolve" -q "$B2/beam.msh" "$T/fifo" -o "$T/shared" 2>"$T/errK" &
+kpid=$!
+exec 3>"$T/fifo"
+sed -n '1,/^end$/p' "$B2/cut.edits" >&3     # the header and step 1 only
+for _ in $(seq 100); do [ -e "$T/shared/step-0001.vtk" ] && break; sleep 0.1; done
+kill -9 $kpid; wait $kpid 2>/dev/null
+exec 3>&-
+if [ -e "$T/shared/step-0001.vtk" ] && [ ! -e "$T/shared/run.yaml" ] && [ ! -e "$T/shared/steps.tsv" ]; then
+    ok "killed re-run: step-0001.vtk written, no run.yaml or steps.tsv left"
+else bad "killed re-run: $(ls -A "$T/shared" | tr '\n' ' ')"; fi
+"$B/curvature" -q --no-png "$T/shared" -o "$T/curv" 2>"$T/errC"
+rc=$?
+[ $rc -eq 2 ] && ok "curvature refuses the killed run's folder: $(cat "$T/errC")" ||
+    { bad "curvature on the killed run's folder: exit $rc"; cat "$T/errC"; }
 exit $fail

@@ -1,6 +1,10 @@
 /* augsolve_run.c: the augsolve tool's work: mesh + scene + edits stream -> run folder with one VTK
  * per step, steps.tsv and run.yaml (all written atomically). */
 #define _XOPEN_SOURCE 700
+#define _DEFAULT_SOURCE /* flock */
+#include <fcntl.h>
+#include <sys/file.h>
+#include <errno.h>
 #include <inttypes.h>
 #include <limits.h>
 #include <math.h>
@@ -42,6 +46,8 @@ typedef struct run {
     int tsv_open;
     char scene_path[PATH_MAX];
     int quiet;
+    int locked, lock_fd;    /* the run folder's lock (claim_run_dir) */
+    char lock_path[PATH_MAX];
 } run;
 
 static void run_free(run *r)
@@ -60,6 +66,37 @@ static void run_free(run *r)
     kt_fem_problem_free(&r->fem);
     kt_physics_free(&r->phys);
     kt_mesh_free(&r->mesh);
+    if (r->locked) {
+        unlink(r->lock_path);
+        close(r->lock_fd);
+    }
+}
+
+/* Claim the run folder: an exclusive lock on <dir>/.augsolve.lock (the kernel drops it when a
+ * run ends or is killed), so a second augsolve into the same folder is refused instead of
+ * mixing its steps with the first's; then the previous result's run.yaml and steps.tsv go, so
+ * a re-run that fails or is killed leaves no run.yaml and no reader takes its mix of old and
+ * new step files as a result. */
+static int claim_run_dir(run *r, const char *dir, kt_err *e)
+{
+    char path[PATH_MAX];
+    if (kt_mkdir_p(dir, e)) return e->code;
+    if (snprintf(r->lock_path, sizeof r->lock_path, "%s/.augsolve.lock", dir) >= (int)sizeof r->lock_path)
+        return kt_fail(e, KT_EINPUT, "%s: path too long", dir);
+    int fd = open(r->lock_path, O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+    if (fd < 0) return kt_fail(e, KT_EINPUT, "%s: cannot create: %s", r->lock_path, strerror(errno));
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        close(fd);
+        return kt_fail(e, KT_EINPUT, "%s: another augsolve is writing into this run folder (%s is "
+                       "locked)", dir, r->lock_path);
+    }
+    r->lock_fd = fd;
+    r->locked = 1;
+    snprintf(path, sizeof path, "%s/run.yaml", dir);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/steps.tsv", dir);
+    unlink(path);
+    return KT_OK;
 }
 
 static void abs_path(const char *p, char *out, size_t n)
@@ -435,7 +472,7 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     int steps = 0;
     r->quiet = o.aug.quiet;
     if (kt_msh_read(o.mesh, &r->mesh, e) || open_edits(r, o.edits, o.mesh, e) ||
-        load_problem(r, o.scene ? o.scene : r->rd.h.scene, e) || kt_mkdir_p(o.run_dir, e) ||
+        load_problem(r, o.scene ? o.scene : r->rd.h.scene, e) || claim_run_dir(r, o.run_dir, e) ||
         open_tsv(r, &o, e))
         goto done;
     if (o.aug.method == KT_AUG_PLANNED) {

@@ -108,18 +108,30 @@ static int read_text(kt_yml *y, const char *path, unsigned char **text, size_t *
 {
     FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
     if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", path, strerror(errno));
-    *text = kt_calloc(KT_YML_MAX_BYTES + 1, 1, e);
-    *len = *text ? fread(*text, 1, KT_YML_MAX_BYTES + 1, f) : 0;
-    if (*text && ferror(f)) kt_fail(e, KT_EINPUT, "%s: read error", path);
-    else if (*len > KT_YML_MAX_BYTES)
-        kt_fail(e, KT_EINPUT, "%s: expected a YAML file of at most %d bytes", file_name(y),
-                KT_YML_MAX_BYTES);
+    size_t cap = 4096, n = 0, got;
+    unsigned char *b = kt_calloc(cap, 1, e);
+    while (b && (got = fread(b + n, 1, cap - n, f)) > 0) {
+        n += got;
+        if (n > KT_YML_MAX_BYTES) {
+            kt_fail(e, KT_EINPUT, "%s: expected a YAML file of at most %d bytes", file_name(y),
+                    KT_YML_MAX_BYTES);
+            break;
+        }
+        if (n == cap) {
+            unsigned char *nb = kt_realloc(b, 2 * cap, 1, e);
+            if (!nb) break;
+            b = nb, cap *= 2;
+        }
+    }
+    if (b && !e->code && ferror(f)) kt_fail(e, KT_EINPUT, "%s: read error", path);
     if (f != stdin) fclose(f);
     if (e->code) {
-        free(*text);
-        *text = NULL;
+        free(b);
+        return e->code;
     }
-    return e->code;
+    *text = b;
+    *len = n;
+    return KT_OK;
 }
 
 /* A first pass over the parser's events: collections nest at most KT_YML_MAX_DEPTH deep. A
