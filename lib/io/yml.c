@@ -167,8 +167,8 @@ int kt_yml_load(kt_yml *y, const char *path, kt_err *e)
     if (strlen(path) >= sizeof y->path)
         return kt_fail(e, KT_EINPUT, "%.200s...: path too long", path);
     strcpy(y->path, path);
-    unsigned char *text;
-    size_t len;
+    unsigned char *text = NULL;
+    size_t len = 0;
     if (read_text(y, path, &text, &len, e)) return e->code;
     if (check_depth(y, text, len, e)) {
         free(text);

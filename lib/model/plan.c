@@ -263,7 +263,7 @@ static int check_arc_steps(const kt_plan *p, kt_err *e)
             kt_plan_where(p, inc->prog.at.line ? inc->prog.at : inc->at, at, sizeof at);
             return kt_fail(e, KT_EINPUT, "%s: progression.degrees_per_step: expected at most %d "
                            "steps in the plan, incisions[%d] (arc %g deg at %g deg per step) "
-                           "brings them to %.3g", at, KT_PLAN_MAX_STEPS, i, inc->arc,
+                           "brings them to %.0f", at, KT_PLAN_MAX_STEPS, i, inc->arc,
                            inc->prog.degrees_per_step, total);
         }
     }
