@@ -5,7 +5,8 @@
 # synthetic eye run folder (test_curv --make-run) - must end with exit 1, an "out of memory"
 # line on stderr, no output file, no temporary file left and, in a sanitizer build
 # (-DKT_SANITIZE=ON), no leak; until N passes the tool's last allocation and it succeeds.
-# KT_ALLOC_STRIDE=K tries every K-th N only (default 1: every one).
+# KT_ALLOC_STRIDE=K tries every K-th N only (default 1: every one); KT_ALLOC_TOOLS="augsolve
+# curvature" sweeps only those tools.
 set -uo pipefail
 B=$(cd "${1:?build dir}" && pwd)
 cd "$(dirname "$0")/.."
@@ -43,6 +44,7 @@ EOP
 sweep() {
     local name=$1 out=$2 n=1 bad=0 rc
     shift 3
+    case " ${KT_ALLOC_TOOLS:-$name} " in *" $name "*) ;; *) return ;; esac
     while :; do
         rm -rf "$out"
         KT_ALLOC_FAIL=$n "$@" >/dev/null 2>"$T/err"
