@@ -491,9 +491,15 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     if (o.aug.method != KT_AUG_PLANNED && run_stream(r, &o, &steps, e)) goto done;
     if (kt_out_commit(&r->tsv, e)) goto done;
     r->tsv_open = 0;
-    write_run_yaml(r, &o, steps, e);
-    if (!e->code && !o.aug.quiet && isatty(STDERR_FILENO)) fputc('\n', stderr);
-    kt_log(o.aug.quiet || e->code, "augsolve: %d steps written to %s\n", steps, o.run_dir);
+    if (write_run_yaml(r, &o, steps, e)) { /* no result without its run.yaml: take back the table */
+        char path[PATH_MAX];
+        snprintf(path, sizeof path, "%s/steps.tsv", o.run_dir);
+        unlink(path);
+    }
+    if (!e->code && !o.aug.quiet && isatty(STDERR_FILENO)) fputc('
+', stderr);
+    kt_log(o.aug.quiet || e->code, "augsolve: %d steps written to %s
+", steps, o.run_dir);
 done:
     run_free(r);
     free(r);
