@@ -496,10 +496,8 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
         snprintf(path, sizeof path, "%s/steps.tsv", o.run_dir);
         unlink(path);
     }
-    if (!e->code && !o.aug.quiet && isatty(STDERR_FILENO)) fputc('
-', stderr);
-    kt_log(o.aug.quiet || e->code, "augsolve: %d steps written to %s
-", steps, o.run_dir);
+    if (!e->code && !o.aug.quiet && isatty(STDERR_FILENO)) fputc('\n', stderr);
+    kt_log(o.aug.quiet || e->code, "augsolve: %d steps written to %s\n", steps, o.run_dir);
 done:
     run_free(r);
     free(r);
