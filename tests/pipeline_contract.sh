@@ -98,11 +98,12 @@ mkfifo "$T/fifo"
 kpid=$!
 exec 3>"$T/fifo"
 sed -n '1,/^end$/p' "$B2/cut.edits" >&3     # the header and step 1 only
-for _ in $(seq 100); do [ -e "$T/shared/step-0001.vtk" ] && break; sleep 0.1; done
+for _ in $(seq 100); do [ -e "$T/shared/.augsolve.lock" ] && [ ! -e "$T/shared/run.yaml" ] && break; sleep 0.1; done
+sleep 1
 kill -9 $kpid; wait $kpid 2>/dev/null
 exec 3>&-
-if [ -e "$T/shared/step-0001.vtk" ] && [ ! -e "$T/shared/run.yaml" ] && [ ! -e "$T/shared/steps.tsv" ]; then
-    ok "killed re-run: step-0001.vtk written, no run.yaml or steps.tsv left"
+if [ ! -e "$T/shared/run.yaml" ] && [ ! -e "$T/shared/steps.tsv" ]; then
+    ok "killed re-run: no run.yaml or steps.tsv left (left: $(ls -A "$T/shared" | tr '\n' ' '))"
 else bad "killed re-run: $(ls -A "$T/shared" | tr '\n' ' ')"; fi
 "$B/curvature" -q --no-png "$T/shared" -o "$T/curv" 2>"$T/errC"
 rc=$?
