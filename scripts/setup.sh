@@ -10,7 +10,9 @@ pkgs=(build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libopenbl
       # starts a single-node one: munge, slurmctld, slurmd, the sbatch client)
       parallel slurm-wlm munge)
 if [ "${1:-}" = --test ]; then
-  pkgs+=(chromium python3-pil fonts-dejavu-core)
+  # test only: chromium for the report checks; clang and its runtime (libFuzzer) for
+  # scripts/fuzz.sh
+  pkgs+=(chromium python3-pil fonts-dejavu-core clang libclang-rt-14-dev)
 elif [ $# -gt 0 ]; then
   echo "setup: unknown option $1 (usage: setup.sh [--test])" >&2; exit 2
 fi

@@ -27,13 +27,15 @@ tets = np.vstack([c.data for c in m.cells if c.type == "tetra"])
 pts = m.points.copy()
 lines = [l.split() for l in open(edits_path) if l.strip() and not l.startswith("#")]
 assert lines[0] == ["keratome-edits", "1"], lines[0]
-head = {l[0]: l for l in lines[1:4]}
+nhead = next(i for i, l in enumerate(lines) if l[0] == "mesh") + 1
+head = {l[0]: l for l in lines[1:nhead]}
+assert len(head["hash"]) == 2 and len(head["hash"][1]) == 16, head.get("hash")
 assert int(head["mesh"][-2]) == len(pts) and int(head["mesh"][-1]) == len(tets), head["mesh"]
 assert head["scene"][1].startswith("/") and head["plan"][1].startswith("/"), "absolute paths"
 nn = len(pts)
 steps, dups, forces, fixes = 0, [], {}, []
 cur = tets.copy()
-for l in lines[4:]:
+for l in lines[nhead:]:
     if l[0] == "step":
         steps += 1
         assert int(l[1]) == steps, l

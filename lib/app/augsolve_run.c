@@ -1,6 +1,11 @@
 /* augsolve_run.c: the augsolve tool's work: mesh + scene + edits stream -> run folder with one VTK
  * per step, steps.tsv and run.yaml (all written atomically). */
 #define _XOPEN_SOURCE 700
+#define _DEFAULT_SOURCE /* flock */
+#include <fcntl.h>
+#include <sys/file.h>
+#include <errno.h>
+#include <inttypes.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -41,6 +46,8 @@ typedef struct run {
     int tsv_open;
     char scene_path[PATH_MAX];
     int quiet;
+    int locked, lock_fd;    /* the run folder's lock (claim_run_dir) */
+    char lock_path[PATH_MAX];
 } run;
 
 static void run_free(run *r)
@@ -59,6 +66,37 @@ static void run_free(run *r)
     kt_fem_problem_free(&r->fem);
     kt_physics_free(&r->phys);
     kt_mesh_free(&r->mesh);
+    if (r->locked) {
+        unlink(r->lock_path);
+        close(r->lock_fd);
+    }
+}
+
+/* Claim the run folder: an exclusive lock on <dir>/.augsolve.lock (the kernel drops it when a
+ * run ends or is killed), so a second augsolve into the same folder is refused instead of
+ * mixing its steps with the first's; then the previous result's run.yaml and steps.tsv go, so
+ * a re-run that fails or is killed leaves no run.yaml and no reader takes its mix of old and
+ * new step files as a result. */
+static int claim_run_dir(run *r, const char *dir, kt_err *e)
+{
+    char path[PATH_MAX];
+    if (kt_mkdir_p(dir, e)) return e->code;
+    if (snprintf(r->lock_path, sizeof r->lock_path, "%s/.augsolve.lock", dir) >= (int)sizeof r->lock_path)
+        return kt_fail(e, KT_EINPUT, "%s: path too long", dir);
+    int fd = open(r->lock_path, O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+    if (fd < 0) return kt_fail(e, KT_EINPUT, "%s: cannot create: %s", r->lock_path, strerror(errno));
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        close(fd);
+        return kt_fail(e, KT_EINPUT, "%s: another augsolve is writing into this run folder (%s is "
+                       "locked)", dir, r->lock_path);
+    }
+    r->lock_fd = fd;
+    r->locked = 1;
+    snprintf(path, sizeof path, "%s/run.yaml", dir);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/steps.tsv", dir);
+    unlink(path);
+    return KT_OK;
 }
 
 static void abs_path(const char *p, char *out, size_t n)
@@ -68,7 +106,9 @@ static void abs_path(const char *p, char *out, size_t n)
     else snprintf(out, n, "%s", p);
 }
 
-static int open_edits(run *r, const char *path, kt_err *e)
+/* The edits stream's header, checked against the mesh: counts, and the content hash when the
+ * header has one (headers written before the hash are checked by their counts alone). */
+static int open_edits(run *r, const char *path, const char *mesh, kt_err *e)
 {
     r->edits = strcmp(path, "-") == 0 ? stdin : fopen(path, "r");
     if (!r->edits) return kt_fail(e, KT_EINPUT, "%s: cannot open the edits stream", path);
@@ -78,6 +118,11 @@ static int open_edits(run *r, const char *path, kt_err *e)
         return kt_fail(e, KT_EINPUT, "%s: the edits apply to a mesh of %d nodes and %d tets, "
                        "expected the %d nodes and %d tets of the mesh given", path, r->rd.h.nn,
                        r->rd.h.ne, r->mesh.nn, r->mesh.ne);
+    uint64_t mine = kt_mesh_hash(&r->mesh);
+    if (r->rd.h.has_hash && r->rd.h.hash != mine)
+        return kt_fail(e, KT_EINPUT, "%s: the edits were made for another mesh: header hash "
+                       "%016" PRIx64 ", mesh %s hashes to %016" PRIx64 " (same counts, other "
+                       "coordinates or tets)", path, r->rd.h.hash, mesh, mine);
     return KT_OK;
 }
 
@@ -203,14 +248,16 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     snprintf(path, sizeof path, "%s/run.yaml", o->run_dir);
     kt_out out;
     if (kt_out_open(&out, path, e)) return e->code;
-    abs_path(o->mesh, buf, sizeof buf);
+    /* paths relative to the run folder: a tree holding the run and its inputs can move */
+    kt_path_relative(o->mesh, o->run_dir, buf, sizeof buf);
     yaml_str(out.f, "mesh", buf);
-    yaml_str(out.f, "scene", r->scene_path);
+    kt_path_relative(r->scene_path, o->run_dir, buf, sizeof buf);
+    yaml_str(out.f, "scene", buf);
     if (r->rd.h.plan[0]) {
-        abs_path(r->rd.h.plan, buf, sizeof buf);
+        kt_path_relative(r->rd.h.plan, o->run_dir, buf, sizeof buf);
         yaml_str(out.f, "plan", buf);
     }
-    abs_path(o->edits, buf, sizeof buf);
+    kt_path_relative(o->edits, o->run_dir, buf, sizeof buf);
     yaml_str(out.f, "edits", buf);
     fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(o->aug.method),
             r->mesh.order, steps);
@@ -424,8 +471,8 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     if (!r) return e->code;
     int steps = 0;
     r->quiet = o.aug.quiet;
-    if (kt_msh_read(o.mesh, &r->mesh, e) || open_edits(r, o.edits, e) ||
-        load_problem(r, o.scene ? o.scene : r->rd.h.scene, e) || kt_mkdir_p(o.run_dir, e) ||
+    if (kt_msh_read(o.mesh, &r->mesh, e) || open_edits(r, o.edits, o.mesh, e) ||
+        load_problem(r, o.scene ? o.scene : r->rd.h.scene, e) || claim_run_dir(r, o.run_dir, e) ||
         open_tsv(r, &o, e))
         goto done;
     if (o.aug.method == KT_AUG_PLANNED) {
@@ -444,7 +491,11 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     if (o.aug.method != KT_AUG_PLANNED && run_stream(r, &o, &steps, e)) goto done;
     if (kt_out_commit(&r->tsv, e)) goto done;
     r->tsv_open = 0;
-    write_run_yaml(r, &o, steps, e);
+    if (write_run_yaml(r, &o, steps, e)) { /* no result without its run.yaml: take back the table */
+        char path[PATH_MAX];
+        snprintf(path, sizeof path, "%s/steps.tsv", o.run_dir);
+        unlink(path);
+    }
     if (!e->code && !o.aug.quiet && isatty(STDERR_FILENO)) fputc('\n', stderr);
     kt_log(o.aug.quiet || e->code, "augsolve: %d steps written to %s\n", steps, o.run_dir);
 done:

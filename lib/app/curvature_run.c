@@ -312,8 +312,8 @@ static int write_surface_vtk(run_ctx *c, int step, const kt_surf *s, const kt_fi
         char name[64], path[PATHMAX];
         snprintf(name, sizeof name, "surface-%04d.vtk", step);
         rc = tmp_path(c, path, name, e);
+        if (rc == KT_OK) rc = add_file(c, name, e); /* first: a failed run removes what it names */
         if (rc == KT_OK) rc = kt_vtk_write_polydata(path, s->n, ref, s->ntri, s->tri, f, 4, 1, e);
-        if (rc == KT_OK) rc = add_file(c, name, e);
     }
     free(elev), free(pow), free(ref), free(org);
     return rc;
@@ -333,8 +333,8 @@ static int write_map_png(run_ctx *c, int step, const kt_fit *map, const step_res
     snprintf(name, sizeof name, "axial-%04d.png", step);
     int rc = kt_topo_render(&c->scale, &m, map_power, map, &img, e);
     if (rc == KT_OK) rc = tmp_path(c, path, name, e);
-    if (rc == KT_OK) rc = kt_topo_write_png(path, &img, e);
     if (rc == KT_OK) rc = add_file(c, name, e);
+    if (rc == KT_OK) rc = kt_topo_write_png(path, &img, e);
     kt_topo_image_free(&img);
     return rc;
 }
@@ -449,7 +449,9 @@ static int write_tables(run_ctx *c, kt_err *e)
 {
     char path[PATHMAX];
     kt_out out;
-    if (tmp_path(c, path, "curvature.tsv", e) || kt_out_open(&out, path, e)) return e->code;
+    if (tmp_path(c, path, "curvature.tsv", e) || add_file(c, "curvature.tsv", e) ||
+        kt_out_open(&out, path, e))
+        return e->code;
     FILE *f = out.f;
     fputs("step\tk_steep_D\tk_flat_D\taxis_steep_deg\tcyl_D\tk_mean_D\tdk_mean_D\tincised_deg"
           "\tk_incised_D\tk_ortho_D\tflattening_D\tsteepening_D\tcoupling_ratio\tsia_D\tsia_axis_deg"
@@ -481,9 +483,11 @@ static int write_tables(run_ctx *c, kt_err *e)
         }
         fputc('\n', f);
     }
-    if (kt_out_commit(&out, e) || add_file(c, "curvature.tsv", e)) return e->code;
+    if (kt_out_commit(&out, e)) return e->code;
 
-    if (tmp_path(c, path, "meridians.tsv", e) || kt_out_open(&out, path, e)) return e->code;
+    if (tmp_path(c, path, "meridians.tsv", e) || add_file(c, "meridians.tsv", e) ||
+        kt_out_open(&out, path, e))
+        return e->code;
     f = out.f;
     fputs("step", f);
     for (int t = 0; t < KT_CURV_NMERID; t += 5) fprintf(f, "\tk%03d_D", t * 180 / KT_CURV_NMERID);
@@ -493,7 +497,7 @@ static int write_tables(run_ctx *c, kt_err *e)
         for (int t = 0; t < KT_CURV_NMERID; t += 5) fprintf(f, "\t%.4f", c->res[i].k.kmer[t]);
         fputc('\n', f);
     }
-    if (kt_out_commit(&out, e) || add_file(c, "meridians.tsv", e)) return e->code;
+    if (kt_out_commit(&out, e)) return e->code;
     return KT_OK;
 }
 

@@ -46,6 +46,8 @@ static int stream(const kt_cutplan_opts *o, const kt_plan *p, kt_incise *c, cons
     abs_path(o->mesh_out ? o->mesh_out : o->mesh, h.mesh, sizeof h.mesh);
     h.nn = m->nn;
     h.ne = m->ne;
+    h.hash = kt_mesh_hash(m); /* after snapping: the mesh the edits apply to */
+    h.has_hash = 1;
     kt_out out;
     if (kt_out_open(&out, o->out, e)) return e->code;
     kt_step s = {0};

@@ -1,9 +1,10 @@
 /* util.c: errors, allocation, timers, progress and atomic output. */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700
 #include "util.h"
 
 #include <errno.h>
 #include <limits.h>
+#include <stdio.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -23,8 +24,27 @@ int kt_fail(kt_err *e, int code, const char *fmt, ...)
     return code;
 }
 
+/* The allocation-failure test hook: the count of calls so far and the one to fail (0: none),
+ * read once from KT_ALLOC_FAIL. The only mutable file-scope state of the library, used by the
+ * test alone; an atomic counter, since the tools' worker threads allocate too. */
+static _Atomic long alloc_calls;
+static _Atomic long alloc_fail_at = -1;
+
+static int alloc_should_fail(void)
+{
+    if (alloc_fail_at < 0) {
+        const char *v = getenv("KT_ALLOC_FAIL");
+        alloc_fail_at = v ? atol(v) : 0;
+    }
+    return alloc_fail_at > 0 && ++alloc_calls == alloc_fail_at;
+}
+
 void *kt_calloc(size_t n, size_t size, kt_err *e)
 {
+    if (alloc_should_fail()) {
+        kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes (KT_ALLOC_FAIL)", n, size);
+        return NULL;
+    }
     if (n == 0) n = 1;
     if (size && n > SIZE_MAX / size) {
         kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", n, size);
@@ -37,6 +57,10 @@ void *kt_calloc(size_t n, size_t size, kt_err *e)
 
 void *kt_realloc(void *p, size_t n, size_t size, kt_err *e)
 {
+    if (alloc_should_fail()) {
+        kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes (KT_ALLOC_FAIL)", n, size);
+        return NULL;
+    }
     if (n == 0) n = 1;
     if (size && n > SIZE_MAX / size) {
         kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", n, size);
@@ -174,6 +198,27 @@ void kt_out_abort(kt_out *o)
     free(o->tmp);
     free(o->path);
     memset(o, 0, sizeof *o);
+}
+
+void kt_path_relative(const char *file, const char *dir, char *out, size_t size)
+{
+    char f[PATH_MAX], d[PATH_MAX];
+    snprintf(out, size, "%s", file);
+    if (strcmp(file, "-") == 0 || !realpath(file, f) || !realpath(dir, d)) return;
+    size_t i = 0, common = 0; /* f[0, common) and d[0, common): the shared whole components */
+    while (f[i] && f[i] == d[i])
+        if (f[i++] == '/') common = i;
+    if (d[i] == '\0' && f[i] == '/') common = i + 1;
+    char rel[PATH_MAX];
+    size_t len = 0;
+    if (d[common]) { /* one "../" per component of dir after the shared ones */
+        len += (size_t)snprintf(rel, sizeof rel, "../");
+        for (const char *q = d + common; *q && len + 4 < sizeof rel; q++)
+            if (*q == '/') len += (size_t)snprintf(rel + len, sizeof rel - len, "../");
+    }
+    if (len + strlen(f + common) + 1 > sizeof rel || len + strlen(f + common) + 1 > size) return;
+    snprintf(rel + len, sizeof rel - len, "%s", f + common);
+    snprintf(out, size, "%s", rel);
 }
 
 int kt_mkdir_p(const char *path, kt_err *e)

@@ -17,7 +17,9 @@ typedef struct kt_err {
 /* Record an error (the first one wins) and return its code. */
 int kt_fail(kt_err *e, int code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
-/* calloc/realloc of n items with overflow check; failure is recorded as KT_ERUN. */
+/* calloc/realloc of n items with overflow check; failure is recorded as KT_ERUN.
+ * Test hook (tests/alloc_fail.sh): with the environment variable KT_ALLOC_FAIL=N, the N-th
+ * call of kt_calloc/kt_realloc in the process fails as if memory ran out. */
 void *kt_calloc(size_t n, size_t size, kt_err *e);
 void *kt_realloc(void *p, size_t n, size_t size, kt_err *e);
 char *kt_strdup(const char *s, kt_err *e);
@@ -51,6 +53,11 @@ typedef struct kt_out {
 int kt_out_open(kt_out *o, const char *path, kt_err *e);
 int kt_out_commit(kt_out *o, kt_err *e);
 void kt_out_abort(kt_out *o);
+
+/* The path of file relative to the folder dir, both existing: "../mesh/eye.msh". Resolves
+ * both (realpath); when either cannot be resolved or the result does not fit, file as given.
+ * Run folders store their inputs this way, so a tree holding a run and its inputs can move. */
+void kt_path_relative(const char *file, const char *dir, char *out, size_t size);
 
 /* Make a directory (and parents) if it does not exist. */
 int kt_mkdir_p(const char *path, kt_err *e);

@@ -2,7 +2,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "edits.h"
 
+#include "mesh.h"
+
 #include <errno.h>
+#include <inttypes.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -66,6 +69,9 @@ static int read_line(kt_edits_reader *r, char **buf, size_t *cap, kt_err *e)
             return 0;
         }
         r->line++;
+        if (n > KT_EDITS_MAX_LINE)
+            return bad(r, 0, e, "expected a line of at most %d bytes, found %zd", KT_EDITS_MAX_LINE,
+                       n), -1;
         if ((size_t)n != strlen(*buf))
             return bad(r, 0, e, "expected text, found a NUL byte"), -1;
         if (strip(*buf)) return 1;
@@ -154,15 +160,37 @@ static int parse_mesh_line(kt_edits_reader *r, cursor *c, kt_err *e)
     int nn_col = (int)(nn_s - c->line) + 1;
     while (sp1 > t && is_blank(sp1[-1])) sp1--;
     *sp1 = '\0';
-    if (kt_parse_int(nn_s, &r->h.nn) != 0 || r->h.nn < 1)
-        return bad(r, nn_col, e, "expected the mesh node count (a positive integer), found '%s'",
-                   nn_s);
-    if (kt_parse_int(ne_s, &r->h.ne) != 0 || r->h.ne < 1)
-        return bad(r, ne_col, e, "expected the mesh tet count (a positive integer), found '%s'",
-                   ne_s);
+    if (kt_parse_int(nn_s, &r->h.nn) != 0 || r->h.nn < 1 || r->h.nn > KT_MESH_MAX_NODES)
+        return bad(r, nn_col, e, "expected the mesh node count (an integer in 1..%d), found '%s'",
+                   KT_MESH_MAX_NODES, nn_s);
+    if (kt_parse_int(ne_s, &r->h.ne) != 0 || r->h.ne < 1 || r->h.ne > KT_MESH_MAX_TETS)
+        return bad(r, ne_col, e, "expected the mesh tet count (an integer in 1..%d), found '%s'",
+                   KT_MESH_MAX_TETS, ne_s);
     if (strlen(t) >= sizeof r->h.mesh) return bad(r, col0, e, "expected a file name under 1024 bytes");
     strcpy(r->h.mesh, t);
     return KT_OK;
+}
+
+/* "hash HEX": the mesh's content hash, exactly 16 hex digits. */
+static int parse_hash(kt_edits_reader *r, cursor *c, kt_err *e)
+{
+    if (r->h.has_hash) return bad(r, 1, e, "expected one 'hash' header line, found a second");
+    char *t = next_tok(c);
+    int col = t ? c->col : c->eol;
+    uint64_t v = 0;
+    size_t n = t ? strlen(t) : 0;
+    for (size_t i = 0; i < n && n == 16; i++) {
+        char ch = t[i];
+        int d = ch >= '0' && ch <= '9' ? ch - '0' : ch >= 'a' && ch <= 'f' ? ch - 'a' + 10 : -1;
+        if (d < 0) n = 0;
+        v = v << 4 | (uint64_t)(d < 0 ? 0 : d);
+    }
+    if (n != 16)
+        return bad(r, col, e, "expected the mesh hash as 16 lower-case hex digits%s%s",
+                   t ? ", found " : "", t ? t : "");
+    r->h.hash = v;
+    r->h.has_hash = 1;
+    return expect_end_of_line(r, c, e);
 }
 
 static int parse_version(kt_edits_reader *r, char *line, kt_err *e)
@@ -201,10 +229,12 @@ int kt_edits_open(kt_edits_reader *r, FILE *f, const char *name, kt_err *e)
             get_path(r, &c, "scene", r->h.scene, e);
         } else if (strcmp(key, "plan") == 0) {
             get_path(r, &c, "plan", r->h.plan, e);
+        } else if (strcmp(key, "hash") == 0) {
+            parse_hash(r, &c, e);
         } else if (strcmp(key, "mesh") == 0) {
             if (parse_mesh_line(r, &c, e) == KT_OK) break;
         } else {
-            bad(r, c.col, e, "expected a header line 'scene', 'plan' or 'mesh', found '%s'", key);
+            bad(r, c.col, e, "expected a header line 'scene', 'plan', 'hash' or 'mesh', found '%s'", key);
         }
     }
     free(buf);
@@ -237,7 +267,11 @@ static int parse_dup(kt_edits_reader *r, cursor *c, kt_step *s, kt_err *e)
     if (ed.new_node != r->nn_cur)
         return bad(r, c->col, e, "expected new node number %d (the next free one), found %d",
                    r->nn_cur + 1, ed.new_node + 1);
-    if (get_index(r, c, r->h.ne, "the count of moved tets", &ed.nel, e)) return e->code;
+    if (r->nn_cur >= KT_MESH_MAX_NODES)
+        return bad(r, c->col, e, "expected at most %d nodes, duplicated ones included",
+                   KT_MESH_MAX_NODES);
+    int most = r->h.ne < KT_EDITS_MAX_DUP_TETS ? r->h.ne : KT_EDITS_MAX_DUP_TETS;
+    if (get_index(r, c, most, "the count of moved tets", &ed.nel, e)) return e->code;
     ed.nel++;
     kt_edit *slot = grow(s, e);
     if (!slot) return e->code;
@@ -307,6 +341,8 @@ static int parse_step_line(kt_edits_reader *r, char *line, kt_step *s, kt_err *e
         return bad(r, c.col, e, "expected 'step %d', found '%s'", r->last_step + 1, key);
     int idx;
     char *t = next_tok(&c);
+    if (r->last_step >= KT_EDITS_MAX_STEPS)
+        return bad(r, c.col, e, "expected at most %d steps", KT_EDITS_MAX_STEPS);
     if (!t || kt_parse_int(t, &idx) != 0 || idx != r->last_step + 1)
         return bad(r, t ? c.col : c.eol, e, "expected step number %d%s%s",
                    r->last_step + 1, t ? ", found " : "", t ? t : "");
@@ -404,6 +440,7 @@ int kt_edits_write_header(FILE *f, const kt_edits_header *h, kt_err *e)
     fprintf(f, "keratome-edits 1\n");
     if (h->scene[0]) fprintf(f, "scene %s\n", h->scene);
     if (h->plan[0]) fprintf(f, "plan %s\n", h->plan);
+    if (h->has_hash) fprintf(f, "hash %016" PRIx64 "\n", h->hash);
     fprintf(f, "mesh %s %d %d\n", h->mesh[0] ? h->mesh : "-", h->nn, h->ne);
     return check_written(f, e);
 }

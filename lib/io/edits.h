@@ -4,6 +4,7 @@
  *   keratome-edits 1
  *   scene plans/eye.yaml               (the scene the mesh was built from)
  *   plan plans/lri-paired-60.yaml      (optional: the plan, for curvature's target)
+ *   hash 3f1c0d5e9a2b7c41             (optional: kt_mesh_hash of that mesh, 16 hex digits)
  *   mesh eye.msh 20411 98231          (file, node count, tet count the edits apply to)
  *   step 1 arc 0-5 deg
  *   dup 1204 20412 3 88 91 1502       (node, new node, count, the tets that move to it)
@@ -16,11 +17,18 @@
 #ifndef KT_EDITS_H
 #define KT_EDITS_H
 
+#include <stdint.h>
 #include <stdio.h>
 
 #include "util.h"
 
 enum { KT_EDIT_DUP = 1, KT_EDIT_FIX, KT_EDIT_FORCE };
+
+/* Bounds the reader enforces (keratome-edits(5), LIMITS), besides the mesh's own
+ * (KT_MESH_MAX_NODES, KT_MESH_MAX_TETS, for the header's counts and the nodes dups add). */
+#define KT_EDITS_MAX_LINE (1 << 20)    /* bytes in one line */
+#define KT_EDITS_MAX_DUP_TETS 10000    /* tets moved by one dup (a node has far fewer) */
+#define KT_EDITS_MAX_STEPS 1000000     /* steps in a stream */
 
 /* One edit; numbers here are 0-based. */
 typedef struct kt_edit {
@@ -47,6 +55,9 @@ typedef struct kt_edits_header {
     char plan[1024];   /* may be empty */
     char mesh[1024];
     int nn, ne;      /* counts of the mesh the edits apply to */
+    int has_hash;    /* 1: hash holds the content hash (kt_mesh_hash) of that mesh; 0: an older
+                        header without one, checked by the counts alone */
+    uint64_t hash;
 } kt_edits_header;
 
 typedef struct kt_edits_reader {

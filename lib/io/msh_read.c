@@ -327,6 +327,8 @@ static int read_nodes(msh_rd *s)
     if (kt_cursor_fits(r, nblk, r->bin ? 20 : 8, "number of node blocks") ||
         kt_cursor_fits(r, nn, r->bin ? 32 : 8, "number of nodes"))
         return r->e->code;
+    if (nn > KT_MESH_MAX_NODES)
+        return kt_cursor_fail(r, "expected at most %d nodes, found %zu", KT_MESH_MAX_NODES, nn);
     tagpos *tp = kt_calloc(nn, sizeof *tp, r->e);
     double *xyz = kt_calloc(3 * nn, sizeof *xyz, r->e);
     size_t k = 0;
@@ -434,6 +436,9 @@ static int read_block(msh_rd *s)
     if (kt_cursor_fits(r, cnt, r->bin ? 8 * (size_t)(nv + 1) : 2 * (size_t)(nv + 1), "number of elements"))
         return r->e->code;
     elist *L = &s->el[k];
+    if (cnt > (size_t)KT_MESH_MAX_TETS - L->n)
+        return kt_cursor_fail(r, "expected at most %d elements of type %d, found %zu more",
+                              KT_MESH_MAX_TETS, type, cnt);
     if (elist_grow(L, nv, cnt, r->e)) return r->e->code;
     for (size_t i = 0; i < cnt; i++) {
         size_t t;

@@ -103,25 +103,88 @@ static int single_document(kt_yml *y, yaml_parser_t *p, kt_err *e)
     return 0;
 }
 
+/* The whole file into *text (at most KT_YML_MAX_BYTES; more is refused before parsing). */
+static int read_text(kt_yml *y, const char *path, unsigned char **text, size_t *len, kt_err *e)
+{
+    FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
+    if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    size_t cap = 4096, n = 0, got;
+    unsigned char *b = kt_calloc(cap, 1, e);
+    while (b && (got = fread(b + n, 1, cap - n, f)) > 0) {
+        n += got;
+        if (n > KT_YML_MAX_BYTES) {
+            kt_fail(e, KT_EINPUT, "%s: expected a YAML file of at most %d bytes", file_name(y),
+                    KT_YML_MAX_BYTES);
+            break;
+        }
+        if (n == cap) {
+            unsigned char *nb = kt_realloc(b, 2 * cap, 1, e);
+            if (!nb) break;
+            b = nb, cap *= 2;
+        }
+    }
+    if (b && !e->code && ferror(f)) kt_fail(e, KT_EINPUT, "%s: read error", path);
+    if (f != stdin) fclose(f);
+    if (e->code) {
+        free(b);
+        return e->code;
+    }
+    *text = b;
+    *len = n;
+    return KT_OK;
+}
+
+/* A first pass over the parser's events: collections nest at most KT_YML_MAX_DEPTH deep. A
+ * syntax error is left to the loading pass, which reports it. */
+static int check_depth(kt_yml *y, const unsigned char *text, size_t len, kt_err *e)
+{
+    yaml_parser_t p;
+    if (!yaml_parser_initialize(&p))
+        return kt_fail(e, KT_ERUN, "%s: cannot initialize the YAML parser", file_name(y));
+    yaml_parser_set_input_string(&p, text, len);
+    int depth = 0, done = 0;
+    while (!done && !e->code) {
+        yaml_event_t ev;
+        if (!yaml_parser_parse(&p, &ev)) break;
+        if (ev.type == YAML_SEQUENCE_START_EVENT || ev.type == YAML_MAPPING_START_EVENT) {
+            if (++depth > KT_YML_MAX_DEPTH)
+                kt_fail(e, KT_EINPUT, "%s:%d:%d: expected blocks nested at most %d deep",
+                        file_name(y), (int)ev.start_mark.line + 1, (int)ev.start_mark.column + 1,
+                        KT_YML_MAX_DEPTH);
+        } else if (ev.type == YAML_SEQUENCE_END_EVENT || ev.type == YAML_MAPPING_END_EVENT) {
+            depth--;
+        }
+        done = ev.type == YAML_STREAM_END_EVENT;
+        yaml_event_delete(&ev);
+    }
+    yaml_parser_delete(&p);
+    return e->code;
+}
+
 int kt_yml_load(kt_yml *y, const char *path, kt_err *e)
 {
     memset(y, 0, sizeof *y);
     if (strlen(path) >= sizeof y->path)
         return kt_fail(e, KT_EINPUT, "%.200s...: path too long", path);
     strcpy(y->path, path);
-    FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
-    if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    unsigned char *text = NULL;
+    size_t len = 0;
+    if (read_text(y, path, &text, &len, e)) return e->code;
+    if (check_depth(y, text, len, e)) {
+        free(text);
+        return e->code;
+    }
     yaml_parser_t p;
     if (!yaml_parser_initialize(&p)) {
-        if (f != stdin) fclose(f);
+        free(text);
         return kt_fail(e, KT_ERUN, "%s: cannot initialize the YAML parser", path);
     }
-    yaml_parser_set_input_file(&p, f);
+    yaml_parser_set_input_string(&p, text, len);
     int ok = yaml_parser_load(&p, &y->doc);
     if (!ok) parse_error(y, &p, e);
     if (ok && yaml_document_get_root_node(&y->doc)) ok = single_document(y, &p, e);
     yaml_parser_delete(&p);
-    if (f != stdin) fclose(f);
+    free(text);
     if (!ok) return e->code;
     y->loaded = 1;
     if (!yaml_document_get_root_node(&y->doc)) {

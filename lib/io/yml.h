@@ -10,6 +10,12 @@
 
 #include "util.h"
 
+/* Bounds on any scene or plan file (keratome-scene(5), LIMITS), checked before it is parsed:
+ * its size, and how deep blocks (mappings, sequences) nest. Strings are bounded by the field
+ * they fill (names KT_NAME_MAX, paths 1024 bytes). */
+#define KT_YML_MAX_BYTES (1 << 20)
+#define KT_YML_MAX_DEPTH 16
+
 /* A loaded document; nodes returned by the getters live as long as it does. */
 typedef struct kt_yml {
     yaml_document_t doc;

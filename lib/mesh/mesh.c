@@ -259,3 +259,30 @@ int kt_mesh_elevate(kt_mesh *m, kt_err *e)
     free(keys);
     return KT_OK;
 }
+
+/* FNV-1a, 64 bits: offset basis 14695981039346656037, prime 1099511628211. */
+static uint64_t fnv_bytes(uint64_t h, uint64_t v, int nbytes)
+{
+    for (int i = 0; i < nbytes; i++) {
+        h ^= (v >> (8 * i)) & 0xffu;
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+uint64_t kt_mesh_hash(const kt_mesh *m)
+{
+    uint64_t h = 14695981039346656037ull;
+    h = fnv_bytes(h, (uint32_t)m->order, 4);
+    h = fnv_bytes(h, (uint32_t)m->nn, 4);
+    h = fnv_bytes(h, (uint32_t)m->ne, 4);
+    for (size_t i = 0; i < 3 * (size_t)m->nn; i++) {
+        double x = m->xyz[i] == 0 ? 0.0 : m->xyz[i];
+        uint64_t bits;
+        memcpy(&bits, &x, sizeof bits);
+        h = fnv_bytes(h, bits, 8);
+    }
+    size_t nt = (size_t)m->ne * (size_t)kt_tet_nv(m->order);
+    for (size_t i = 0; i < nt; i++) h = fnv_bytes(h, (uint32_t)m->tet[i], 4);
+    return h;
+}

@@ -2,9 +2,15 @@
 #ifndef KT_MESH_H
 #define KT_MESH_H
 
+#include <stdint.h>
+
 #include "util.h"
 
 #define KT_NAME_MAX 64
+/* The largest mesh any file may describe (keratome-edits(5), LIMITS): node and tet numbers,
+ * 10 per quadratic tet, then stay well inside an int. Readers refuse more before allocating. */
+#define KT_MESH_MAX_NODES 100000000
+#define KT_MESH_MAX_TETS 100000000
 
 /* A physical group: dimension 2 (a surface of triangles) or 3 (a region of tets). */
 typedef struct kt_group {
@@ -34,6 +40,12 @@ int kt_tri_nv(int order);   /* 3 or 6 */
 
 void kt_mesh_free(kt_mesh *m);
 int kt_mesh_copy(kt_mesh *dst, const kt_mesh *src, kt_err *e);
+
+/* The content hash of a mesh: 64-bit FNV-1a over its order, node and tet counts, every
+ * coordinate (the IEEE-754 bits, -0 taken as +0, little-endian) and every tet's node numbers
+ * (32-bit little-endian). Independent of the file's format and bytes: the edits stream names
+ * the mesh it was made for by this (keratome-edits(5)). */
+uint64_t kt_mesh_hash(const kt_mesh *m);
 
 /* Add a group; its tag must be new for its dimension. */
 int kt_mesh_add_group(kt_mesh *m, int dim, int tag, const char *name, kt_err *e);

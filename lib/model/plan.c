@@ -96,6 +96,7 @@ static int parse_progression(kt_yml *y, const yaml_node_t *n, const char *what, 
                             (kt_yml_bounds){0, 360, 1, 0}, &pr->degrees_per_step, e) ||
         kt_yml_key_int(y, n, what, "nodes_per_step", 1, 100000000, &pr->nodes_per_step, e))
         return e->code;
+    pr->at = mark_of(v);
     return KT_OK;
 }
 
@@ -248,6 +249,27 @@ static int parse_incision(kt_yml *y, const yaml_node_t *n, int i, kt_plan *p, kt
     return KT_OK;
 }
 
+/* The arcs' steps must stay within KT_PLAN_MAX_STEPS: checked before any mesh is read, at the
+ * degrees_per_step that sets them (1e-9 deg would otherwise ask for billions of steps). */
+static int check_arc_steps(const kt_plan *p, kt_err *e)
+{
+    double total = 0;
+    for (int i = 0; i < p->ninc; i++) {
+        const kt_incision *inc = &p->inc[i];
+        if (!(inc->prog.degrees_per_step > 0)) continue;
+        total += ceil(inc->arc / inc->prog.degrees_per_step - 1e-9);
+        if (total > KT_PLAN_MAX_STEPS) {
+            char at[1100];
+            kt_plan_where(p, inc->prog.at.line ? inc->prog.at : inc->at, at, sizeof at);
+            return kt_fail(e, KT_EINPUT, "%s: progression.degrees_per_step: expected at most %d "
+                           "steps in the plan, incisions[%d] (arc %g deg at %g deg per step) "
+                           "brings them to %.0f", at, KT_PLAN_MAX_STEPS, i, inc->arc,
+                           inc->prog.degrees_per_step, total);
+        }
+    }
+    return KT_OK;
+}
+
 static int parse_incisions(kt_yml *y, const yaml_node_t *n, kt_plan *p, kt_err *e)
 {
     if (kt_yml_check_seq(y, n, "incisions", 1, KT_PLAN_MAX, e)) return e->code;
@@ -256,7 +278,7 @@ static int parse_incisions(kt_yml *y, const yaml_node_t *n, kt_plan *p, kt_err *
     p->ninc = kt_yml_seq_len(n);
     for (int i = 0; i < p->ninc; i++)
         if (parse_incision(y, kt_yml_seq_item(y, n, i), i, p, e)) return e->code;
-    return KT_OK;
+    return check_arc_steps(p, e);
 }
 
 /* ---- deformation ---- */
@@ -310,7 +332,7 @@ static int parse_deform(kt_yml *y, const yaml_node_t *n, int i, kt_deform *d, kt
         return e->code;
     }
     d->steps = 1;
-    if (kt_yml_key_int(y, n, what, "steps", 1, 100000, &d->steps, e) ||
+    if (kt_yml_key_int(y, n, what, "steps", 1, KT_PLAN_MAX_STEPS, &d->steps, e) ||
         kt_yml_key_int(y, n, what, "nodes_per_step", 1, 100000000, &d->nodes_per_step, e) ||
         kt_yml_key_int(y, n, what, "max_nodes", 1, 100000000, &d->max_nodes, e))
         return e->code;

@@ -11,6 +11,10 @@
 #include "scene.h"
 
 #define KT_PLAN_MAX 16
+/* The most steps a plan may ask for (keratome-plan(5), LIMITS): the arcs' steps (arc over
+ * degrees_per_step, summed over the incisions, a paired incision counted once) and each
+ * deform's steps. A plan beyond it is refused at load time, before any mesh is read. */
+#define KT_PLAN_MAX_STEPS 3600
 
 /* How the blade advances along an arc. */
 enum { KT_BLADE_CW = 0, KT_BLADE_CCW = 1, KT_BLADE_CENTRE_OUT = 2 };
@@ -26,6 +30,7 @@ typedef struct kt_mark {
 typedef struct kt_progression {
     double degrees_per_step; /* > 0, or 0 when nodes_per_step is used */
     int nodes_per_step;      /* > 0, or 0 */
+    kt_mark at;              /* where degrees_per_step / nodes_per_step was given */
 } kt_progression;
 
 typedef struct kt_incision {

@@ -247,8 +247,11 @@ static int klu_setup(kt_aug *A, klu_pre *P, kt_err *e)
     memset(P, 0, sizeof *P);
     P->m = A->m;
     klu_defaults(&P->kc);
-    if (A->o.precond == KT_AUG_PRECOND_LOCAL ? build_local(A, P, e) : build_m(A, P, e))
+    if (A->o.precond == KT_AUG_PRECOND_LOCAL ? build_local(A, P, e) : build_m(A, P, e)) {
+        klu_pre_free(P); /* what was allocated before the failure */
+        memset(P, 0, sizeof *P);
         return e->code;
+    }
     P->sym = klu_analyze(P->Rp ? P->nw : P->m, P->Mp, P->Mi, &P->kc);
     if (P->sym) P->num = klu_factor(P->Mp, P->Mi, P->Mx, P->sym, &P->kc);
     if (!P->sym || !P->num) {

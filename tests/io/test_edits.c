@@ -113,9 +113,51 @@ static void test_comments_and_blanks(void)
     kt_step_free(&s);
 }
 
+/* The mesh hash line: written when set, read back exactly; absent in older headers. */
+static void test_hash(void)
+{
+    kt_err e = {0};
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    kt_edits_header h = {0};
+    strcpy(h.mesh, "m.msh");
+    h.nn = 5;
+    h.ne = 2;
+    h.has_hash = 1;
+    h.hash = 0xf00dcafe0123abcdull;
+    CHECK(kt_edits_write_header(f, &h, &e) == KT_OK, "%s", e.msg);
+    fclose(f);
+    CHECK(strstr(buf, "\nhash f00dcafe0123abcd\nmesh m.msh 5 2\n") != NULL, "header text: %s", buf);
+    kt_edits_reader r;
+    kt_step s = {0};
+    CHECK(parse_all(buf, &e, &r, &s) == 0 && r.h.has_hash && r.h.hash == h.hash,
+          "hash read back: %s", e.msg);
+    free(buf);
+    CHECK(parse_all("keratome-edits 1\nmesh m.msh 5 2\n", &e, &r, &s) == 0 && !r.h.has_hash,
+          "a header without hash is read: %s", e.msg);
+    kt_step_free(&s);
+}
+
+/* Bounds (keratome-edits(5), LIMITS) refuse before anything is allocated for them. */
+static void test_limits(void)
+{
+    char buf[512];
+    expect_error("keratome-edits 1\nmesh m.msh 100000001 2\n", "t.edits:2:12:", "1..100000000");
+    expect_error("keratome-edits 1\nmesh m.msh 5 2000000000\n", "t.edits:2:14:", "1..100000000");
+    snprintf(buf, sizeof buf, "keratome-edits 1\nmesh m.msh 5 99999999\nstep 1\ndup 1 6 99999999 1\nend\n");
+    expect_error(buf, "t.edits:4:9:", "count of moved tets in 1..10000");
+    expect_error("keratome-edits 1\nhash 12\nmesh m.msh 5 2\n", "t.edits:2:6:", "16 lower-case hex");
+    expect_error("keratome-edits 1\nhash 0123456789abcdeg\nmesh m.msh 5 2\n", "t.edits:2:6:", "hex");
+    expect_error("keratome-edits 1\nhash 0123456789abcdef\nhash 0123456789abcdef\nmesh m.msh 5 2\n",
+                 "t.edits:3:1:", "second");
+}
+
 int main(void)
 {
     test_roundtrip();
+    test_hash();
+    test_limits();
     test_comments_and_blanks();
     const char *H = "keratome-edits 1\nmesh m.msh 5 2\n";
     char buf[512];

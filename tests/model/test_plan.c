@@ -186,6 +186,38 @@ static void test_bad(void)
                2, 22, "point");
 }
 
+/* Limits (keratome-plan(5), keratome-scene(5)): refused at load time, at the field. */
+static void test_limits(void)
+{
+    /* 60 deg at 1e-9 deg per step would be 6e10 steps; 3600 is the most a plan may ask for */
+    expect_bad("tiny-step.yaml", eye_scene,
+               "incisions:\n  - {meridian: 90 deg, arc: 60 deg, depth: 550 um, position: {diameter: 10.5 mm}}\n"
+               "progression: {degrees_per_step: 1e-9 deg}\n", 4, 33, "at most 3600 steps");
+    /* two incisions: 2 x 60 / 0.03 = 4000 > 3600, the second one's own progression */
+    expect_bad("sum-step.yaml", eye_scene,
+               "incisions:\n  - {meridian: 90 deg, arc: 60 deg, depth: 550 um, position: {diameter: 10.5 mm}}\n"
+               "  - {meridian: 0 deg, arc: 60 deg, depth: 550 um, position: {diameter: 10.5 mm},\n"
+               "     progression: {degrees_per_step: 0.03 deg}}\n"
+               "progression: {degrees_per_step: 0.03 deg}\n", 5, 38, "incisions[1]");
+    /* exactly at the bound: 3600 steps of 0.1 deg over a 360 deg arc */
+    const char *path = write_plan("edge.yaml", eye_scene,
+               "incisions:\n  - {meridian: 90 deg, arc: 360 deg, depth: 550 um, position: {diameter: 10.5 mm}}\n"
+               "progression: {degrees_per_step: 0.1 deg}\n");
+    kt_plan *p = calloc(1, sizeof *p);
+    kt_err e = {0};
+    CHECK(p && kt_plan_load(path, p, &e) == KT_OK, "3600 steps accepted: %s", e.msg);
+    free(p);
+    expect_bad("deform-steps.yaml", beam_scene,
+               "deform:\n  - {surface: zmax, force: [0 N, 0 N, 1 N], steps: 3601}\n", 3, 52, "steps");
+    /* blocks nested 17 deep (the top-level mapping is the first) */
+    char deep[256] = "name: [";
+    for (int i = 0; i < 16; i++) strcat(deep, "[");
+    strcat(deep, "1");
+    for (int i = 0; i < 17; i++) strcat(deep, "]");
+    strcat(deep, "\n");
+    expect_bad("nested.yaml", eye_scene, deep, 2, 22, "nested at most 16 deep");
+}
+
 /* The plan against meshes: a missing surface is refused at the field naming it. */
 static void test_mesh_check(void)
 {
@@ -220,6 +252,7 @@ int main(void)
     }
     test_good();
     test_bad();
+    test_limits();
     test_mesh_check();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
