@@ -1,0 +1,69 @@
+/* curvature_int.h: the curvature run's state, shared by its driver (curvature_run.c) and its
+ * outputs (curvature_out.c); private to lib/app. The driver owns run_ctx (setup, ctx_free). */
+#ifndef KT_CURVATURE_INT_H
+#define KT_CURVATURE_INT_H
+
+#include <stdio.h>
+
+#include "axialmap.h"
+#include "curv.h"
+#include "curv_report.h"
+#include "curv_total.h"
+#include "curvature_run.h"
+#include "plan.h"
+
+#define PATHMAX 4096
+
+/* What one step gives. */
+typedef struct step_res {
+    kt_fit fit;          /* zone fit (keratometry) */
+    kt_kerato k;
+    double map_radius;   /* radius of the map fit, mm */
+    double bfs_radius;   /* best-fit sphere over the map disk, mm */
+    kt_fit map;          /* the map fit */
+    kt_fit post;         /* posterior zone fit (has_post) */
+    int has_post;
+    kt_total tot;        /* posterior and total corneal power (NaN without a posterior surface) */
+} step_res;
+
+typedef struct run_ctx {
+    const kt_curv_opts *o;
+    char outdir[PATHMAX], tmpdir[PATHMAX];
+    int made_outdir;     /* the output folder did not exist: removed again on failure */
+    char mesh[PATHMAX], plan[PATHMAX];
+    int nstep;
+    char **vtk;          /* nstep step files, step 0 first */
+    unsigned char *mask; /* anterior nodes of the input mesh */
+    unsigned char *post_mask; /* posterior corneal nodes (NULL: none) */
+    int mesh_nn, mesh_ne, mesh_order;
+    kt_topo_scale scale, diff_scale;
+    kt_cornea_n n;
+    kt_plan *plan_in;    /* the plan read (NULL: no plan) */
+    double *u0;          /* step 0's displacement by input node (for the report's section) */
+    kt_section section;
+    double t0;           /* start, kt_now() */
+    double meridian;     /* incised meridian, deg (NaN: not known yet) */
+    const char *meridian_src;
+    int has_target;
+    kt_astig tia;
+    step_res *res;
+    int nfile;
+    char **file;         /* names written into tmpdir */
+} run_ctx;
+
+/* dst = dir/name (PATHMAX), KT_EINPUT when too long. */
+int kt_curvrun_join(char *dst, const char *dir, const char *name, kt_err *e);
+/* An axis in [0, 180) as it prints with `decimals` decimals: what would round to 180 is 0. */
+double kt_curvrun_axis_out(double a, int decimals);
+/* Register an output written into the temporary folder, and its path there. */
+int kt_curvrun_add_file(run_ctx *c, const char *name, kt_err *e);
+int kt_curvrun_tmp_path(run_ctx *c, char *path, const char *name, kt_err *e);
+
+/* curvature_out.c */
+int kt_curvrun_write_tables(run_ctx *c, kt_err *e);
+void kt_curvrun_summary(const run_ctx *c, FILE *f);
+void kt_curvrun_summary_json(const run_ctx *c, FILE *f);
+int kt_curvrun_write_pvd(run_ctx *c, kt_err *e);
+int kt_curvrun_write_report(run_ctx *c, kt_err *e);
+
+#endif
