@@ -39,17 +39,21 @@ static int alloc_should_fail(void)
     return alloc_fail_at > 0 && ++alloc_calls == alloc_fail_at;
 }
 
+/* 0 when n x size bytes may be asked for (n raised to 1), else KT_ERUN recorded: the test
+ * hook's failure, or a product that overflows. */
+static int alloc_check(size_t *n, size_t size, kt_err *e)
+{
+    if (alloc_should_fail())
+        return kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes (KT_ALLOC_FAIL)", *n, size);
+    if (*n == 0) *n = 1;
+    if (size && *n > SIZE_MAX / size)
+        return kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", *n, size);
+    return KT_OK;
+}
+
 void *kt_calloc(size_t n, size_t size, kt_err *e)
 {
-    if (alloc_should_fail()) {
-        kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes (KT_ALLOC_FAIL)", n, size);
-        return NULL;
-    }
-    if (n == 0) n = 1;
-    if (size && n > SIZE_MAX / size) {
-        kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", n, size);
-        return NULL;
-    }
+    if (alloc_check(&n, size, e)) return NULL;
     void *p = calloc(n, size);
     if (!p) kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", n, size);
     return p;
@@ -57,15 +61,7 @@ void *kt_calloc(size_t n, size_t size, kt_err *e)
 
 void *kt_realloc(void *p, size_t n, size_t size, kt_err *e)
 {
-    if (alloc_should_fail()) {
-        kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes (KT_ALLOC_FAIL)", n, size);
-        return NULL;
-    }
-    if (n == 0) n = 1;
-    if (size && n > SIZE_MAX / size) {
-        kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", n, size);
-        return NULL;
-    }
+    if (alloc_check(&n, size, e)) return NULL;
     void *q = realloc(p, n * size);
     if (!q) kt_fail(e, KT_ERUN, "out of memory: %zu x %zu bytes", n, size);
     return q;
