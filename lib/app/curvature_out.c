@@ -239,7 +239,10 @@ int kt_curvrun_write_pvd(run_ctx *c, kt_err *e)
     int by_arc = c->nstep > 1 && isfinite(arc_of(c, 1));
     for (int i = 1; by_arc && i < c->nstep; i++) by_arc = arc_of(c, i) > arc_of(c, i - 1);
     kt_out out;
-    if (kt_curvrun_tmp_path(c, path, "steps.pvd", e) || kt_out_open(&out, path, e)) return e->code;
+    /* registered first: a failed run removes what it names */
+    if (kt_curvrun_tmp_path(c, path, "steps.pvd", e) || kt_curvrun_add_file(c, "steps.pvd", e) ||
+        kt_out_open(&out, path, e))
+        return e->code;
     FILE *f = out.f;
     fprintf(f, "<?xml version=\"1.0\"?>\n<!-- keratome %s: the step meshes of this run; timestep = %s -->\n"
                "<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n",
@@ -260,8 +263,7 @@ int kt_curvrun_write_pvd(run_ctx *c, kt_err *e)
         fputs("\"/>\n", f);
     }
     fputs("  </Collection>\n</VTKFile>\n", f);
-    if (kt_out_commit(&out, e) || kt_curvrun_add_file(c, "steps.pvd", e)) return e->code;
-    return KT_OK;
+    return kt_out_commit(&out, e);
 }
 
 /* A whole small file as a string (NULL when it cannot be read). */
@@ -330,8 +332,8 @@ int kt_curvrun_write_report(run_ctx *c, kt_err *e)
     r.curv_s = kt_now() - c->t0;
     r.n = &c->n;
     int rc = kt_curvrun_tmp_path(c, path, "report.html", e);
+    if (rc == KT_OK) rc = kt_curvrun_add_file(c, "report.html", e); /* first: a failed run removes it */
     if (rc == KT_OK) rc = kt_curv_report_write(path, &r, e);
-    if (rc == KT_OK) rc = kt_curvrun_add_file(c, "report.html", e);
     free(run_yaml), free(st);
     return rc;
 }

@@ -71,6 +71,7 @@ static int apply_one(kt_mesh *m, const kt_step *s, kt_edit *ed, const char *stre
         free(touched);
         return KT_OK;
     }
+    if (e->code != KT_EINPUT) return e->code; /* out of memory is not bad input */
     char msg[sizeof e->msg];
     memcpy(msg, e->msg, sizeof msg);
     e->code = KT_OK;
