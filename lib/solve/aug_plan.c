@@ -32,8 +32,10 @@ int kt_plan_read(kt_plan *p, kt_edits_reader *r, kt_err *e)
             p->cap = cap;
         }
         int rc = kt_edits_next(r, &p->step[p->nsteps], e);
-        if (rc < 0) return e->code;
-        if (rc == 0) return KT_OK;
+        if (rc <= 0) { /* the slot is not counted: free what a failed or empty read left in it */
+            kt_step_free(&p->step[p->nsteps]);
+            return rc < 0 ? e->code : KT_OK;
+        }
         p->nsteps++;
     }
 }
