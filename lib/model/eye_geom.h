@@ -48,6 +48,11 @@ typedef struct kt_eye {
     double fibre_density;           /* circumferential fibril density at the limbus relative to
                                        the central cornea (eye.fibres.limbal_density) */
     double h_optical, h_incision, h_cornea, h_sclera; /* element sizes, mm */
+    double h_floor;                 /* size at the rings' floor (the crack front of an incision),
+                                       mm; 0: no floor refinement (eye.mesh_size.incision_floor) */
+    double floor_centre, floor_sector; /* the floor is refined within floor_sector deg of the
+                                       meridian floor_centre and its opposite (the scene's
+                                       ordering.centre/sector); sector 0 or >= 90: all around */
     int nring;
     kt_ring ring[KT_SCENE_MAX];
 } kt_eye;

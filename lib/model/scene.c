@@ -487,6 +487,8 @@ static void model_defaults(yaml_node_t *materials, yaml_node_t *loads, yaml_node
     if (isnan(s->ordering_centre) && eye) s->ordering_centre = s->eye.steep_axis;
     /* 50 deg: a pair of arcs of up to 90 deg about the centre, with 5 deg to spare each side. */
     if (isnan(s->ordering_sector) && eye) s->ordering_sector = 50;
+    /* The incision floor is refined where the arcs are cut: the ordering's sector. */
+    if (eye) s->eye.floor_centre = s->ordering_centre, s->eye.floor_sector = s->ordering_sector;
     /* One layer: the nodes whose stiffness columns change when the set is cut; the eye takes a
      * second, the rows of those columns, so augsolve's closure solves stay inside the set
      * (measured on plans/eye.yaml: closures of 12-14k DOFs with one layer, 5k with two). */
