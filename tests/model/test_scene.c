@@ -88,6 +88,8 @@ static void test_eye_plan(void)
     CHECK_NEAR(s.mat[0].Gt, 0.047, 1e-15, "cornea G_transverse 47 kPa in MPa");
     CHECK_NEAR(s.eye.fibre_band, 1.5, 0, "limbal band, mm");
     CHECK_NEAR(s.eye.fibre_density, 1.91, 0, "limbal density");
+    CHECK_NEAR(s.eye.h_floor, 0.042, 1e-15, "incision floor 42 um in mm");
+    CHECK_NEAR(s.eye.floor_sector, 50, 0, "floor refined in the ordering's sector");
     CHECK(s.reference == KT_REFERENCE_PRESTRESSED, "reference %d", s.reference);
     CHECK(s.nfix == 1 && s.fix[0].mask == 7 && strcmp(s.fix[0].surface, "fixed") == 0, "fixation");
 }
@@ -207,6 +209,9 @@ static void test_floor(void)
     CHECK_NEAR(s.eye.h_floor, 0.03, 1e-15, "30 um in mm");
     CHECK_NEAR(s.eye.floor_centre, 20, 0, "floor centre = ordering.centre");
     CHECK_NEAR(s.eye.floor_sector, 40, 0, "floor sector = ordering.sector");
+    write_file(path, "eye:\n  mesh_size: {incision: 0.2 mm}\n");
+    CHECK(kt_scene_load(path, &s, &e) == 0, "%s", e.msg);
+    CHECK(s.eye.h_floor == 0, "built-in: no floor refinement (%g mm)", s.eye.h_floor);
 }
 
 /* Materials by region tag and Dirichlet data on the box's groups. */
