@@ -74,8 +74,12 @@ static void print_sizes(FILE *f, const run_info *r)
     const kt_eye *eye = &r->s->eye;
     double hc, ho;
     kt_eye_sizes(eye, r->order, &hc, &ho);
-    fprintf(f, "sizes        optical zone %g mm, incision %g mm, cornea %g mm, sclera %g mm\n", ho,
-            eye->h_incision, hc, eye->h_sclera);
+    kt_err ge = {0};
+    double tets = NAN;
+    kt_eye_estimate_tets(eye, r->order, &tets, &ge);
+    fprintf(f, "sizes        optical zone %g mm, incision %g mm, cornea %g mm, sclera %g mm\n"
+               "             (about %.0f tets estimated before meshing; at most %d)\n", ho,
+            eye->h_incision, hc, eye->h_sclera, tets, KT_EYE_MAX_TETS);
     if (eye->h_floor > 0)
         fprintf(f, "             incision floor %g mm within %g deg of the meridians %g and %g deg\n",
                 eye->h_floor, eye->floor_sector > 0 && eye->floor_sector < 90 ? eye->floor_sector : 90,
@@ -244,6 +248,18 @@ done:
     return e->code;
 }
 
+/* The scene reader bounds the eye's tets at the scene's order; --order can ask for another. */
+static int check_budget(const kt_prep_opts *o, const kt_scene *s, int order, kt_err *e)
+{
+    if (s->model != KT_MODEL_EYE || order == s->order) return KT_OK;
+    kt_err ge = {0};
+    double tets;
+    if (kt_eye_estimate_tets(&s->eye, order, &tets, &ge) || tets <= KT_EYE_MAX_TETS) return KT_OK;
+    return kt_fail(e, KT_EINPUT, "%s: eye.mesh_size: expected sizes that ask for at most %d tets "
+                   "at order %d (--order), these ask for about %.3g million (keratome-scene(5), "
+                   "LIMITS)", o->scene, KT_EYE_MAX_TETS, order, tets / 1e6);
+}
+
 int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e)
 {
     kt_scene *s = kt_calloc(1, sizeof *s, e);
@@ -257,6 +273,7 @@ int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e)
     r.s = s;
     r.order = o->order ? o->order : s->order;
     r.chosen = o->ordering ? o->ordering : s->ordering;
+    if (check_budget(o, s, r.order, e)) goto done;
     run_mesh(o, s, &r, &m, summary, e);
 done:
     kt_mesh_free(&m);

@@ -358,10 +358,6 @@ static int floor_distance(eye_build *b, int i, char *expr, size_t len)
     return n > 0 && (size_t)n < len ? matheval(b, expr) : (b->ierr = 1, -1);
 }
 
-/* Size slope away from the incision floor (size increase per unit distance): the size at
- * distance d from the floor is h_floor + FLOOR_GRADING (d - h_floor / 2) until the ring's size. */
-#define FLOOR_GRADING 0.5
-
 /* Size fields: h_incision near the rings, h_floor at the rings' floor (within the sector),
  * h_optical in the central zone, h_cornea elsewhere in cornea and limbus, h_sclera in the
  * sclera; the background size is their minimum. */
@@ -399,7 +395,7 @@ static int size_fields(eye_build *b, kt_err *e)
     double hring = fmin(eye->h_incision, hc);
     for (int i = 0; i < eye->nring && eye->h_floor > 0; i++) {
         int dist = floor_distance(b, i, expr, sizeof expr);
-        double len = (hring - eye->h_floor) / FLOOR_GRADING;
+        double len = (hring - eye->h_floor) / KT_EYE_FLOOR_GRADING;
         if (dist > 0 && (f = graded(b, dist, eye->h_floor, 0.5 * eye->h_floor, len, hring, hmax)) > 0)
             fl[n++] = f;
     }

@@ -21,6 +21,11 @@ enum { KT_EYE_REG_CORNEA = 1, KT_EYE_REG_LIMBUS, KT_EYE_REG_SCLERA };
 enum { KT_EYE_SURF_ANTERIOR = 1, KT_EYE_SURF_INNER, KT_EYE_SURF_FIXED, KT_EYE_SURF_OUTER,
        KT_EYE_SURF_RING0 = 10 };
 
+/* Size slope away from an incision ring's floor (size increase per unit distance): at distance
+ * d from the floor the size is h_floor + KT_EYE_FLOOR_GRADING (d - h_floor / 2), up to the
+ * ring's size (eye.c's size field; eye_budget.c's estimate). */
+#define KT_EYE_FLOOR_GRADING 0.5
+
 /* The eye's parameters as the scene gives them (internal units mm, degrees). */
 #define KT_SCENE_MAX 16
 

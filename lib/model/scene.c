@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "eye.h"
 #include "scene_int.h"
 #include "yml.h"
 
@@ -516,6 +517,22 @@ static int parse_model(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
     }
 }
 
+/* The work an eye's mesh sizes ask for, bounded before any meshing (eye_budget.c). A geometry
+ * the estimate cannot take is left to the mesher, which names what is wrong with it. */
+static int check_budget(kt_yml *y, yaml_node_t *root, const kt_scene *s, kt_err *e)
+{
+    if (s->model != KT_MODEL_EYE) return KT_OK;
+    kt_err ge = {0};
+    double tets;
+    if (kt_eye_estimate_tets(&s->eye, s->order, &tets, &ge)) return KT_OK;
+    if (tets <= KT_EYE_MAX_TETS) return KT_OK;
+    yaml_node_t *eye = kt_yml_get(y, root, "eye"), *sizes = eye ? kt_yml_get(y, eye, "mesh_size") : NULL;
+    return kt_yml_fail(y, sizes ? sizes : eye ? eye : root, e,
+                       "eye.mesh_size: expected sizes that ask for at most %d tets at order %d, these ask "
+                       "for about %.3g million (keratome-scene(5), LIMITS)", KT_EYE_MAX_TETS, s->order,
+                       tets / 1e6);
+}
+
 static int parse_scene(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
 {
     if (kt_yml_check_map(y, root, "scene", TOP_KEYS, e)) return e->code;
@@ -536,6 +553,8 @@ static int parse_scene(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
     if (loads && parse_loads(y, loads, s, e)) return e->code;
     if (fix && parse_fixation(y, fix, s, e)) return e->code;
     model_defaults(mats, loads, fix, s);
+    /* After the defaults: the floor refinement's sector is the ordering's. */
+    if (check_budget(y, root, s, e)) return e->code;
     return check_names(y, root, s, e);
 }
 
