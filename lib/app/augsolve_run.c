@@ -261,10 +261,8 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     yaml_str(out.f, "edits", buf);
     fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(o->aug.method),
             r->mesh.order, steps);
-    static const char *const PRE[] = {"none", "diag", "spai", "local"},
-                             *const ORD[] = {"natural", "amd", "metis"};
-    fprintf(out.f, "tol: %g\nprecond: %s\nordering: %s\nfactor: %s\n", o->aug.tol,
-            PRE[o->aug.precond], ORD[o->aug.ordering],
+    static const char *const ORD[] = {"natural", "amd", "metis"};
+    fprintf(out.f, "tol: %g\nordering: %s\nfactor: %s\n", o->aug.tol, ORD[o->aug.ordering],
             o->aug.factor == KT_AUG_FACTOR_SIMPLICIAL ? "simplicial" : "supernodal");
     if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
     if (r->fallback) yaml_str(out.f, "fallback", r->fallback);
