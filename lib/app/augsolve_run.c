@@ -464,7 +464,8 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
 {
     kt_aug_run_opts o = *o_in;
     if (o.aug.ordering == KT_AUG_ORDER_DEFAULT)
-        o.aug.ordering = o.aug.method == KT_AUG_PLANNED ? KT_AUG_ORDER_METIS : KT_AUG_ORDER_NATURAL;
+        o.aug.ordering = o.aug.method == KT_AUG_PLANNED || o.aug.method == KT_AUG_AUGMENTED
+                             ? KT_AUG_ORDER_METIS : KT_AUG_ORDER_NATURAL;
     run *r = kt_calloc(1, sizeof *r, e);
     if (!r) return e->code;
     int steps = 0;
@@ -479,7 +480,7 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
             fprintf(stderr, "augsolve: the planned method does not apply (%s): falling back to "
                     "--method augmented\n", r->fallback);
             o.aug.method = KT_AUG_AUGMENTED;
-            o.aug.ordering = KT_AUG_ORDER_NATURAL;
+            o.aug.factor = KT_AUG_FACTOR_SUPERNODAL; /* its W is kept by supernode */
         }
     } else if (o.steps) {
         if (kt_plan_read(&r->plan, &r->rd, e) || parse_steps(r, o.steps, r->plan.nsteps, e))

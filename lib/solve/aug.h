@@ -25,7 +25,8 @@
 /* KT_AUG_PLANNED (augsolve's default, aug_plan.h) runs in kt_aug_run only: it reads the whole
  * stream first. kt_aug_create solves a stream step by step with the other methods. */
 enum { KT_AUG_AUGMENTED = 1, KT_AUG_REFACTOR, KT_AUG_CG, KT_AUG_PCG_JACOBI, KT_AUG_PLANNED };
-/* KT_AUG_ORDER_DEFAULT: metis for the planned method, natural for the others */
+/* KT_AUG_ORDER_DEFAULT (augsolve): metis for the planned and augmented methods, natural (the
+ * mesh's order) for the baselines; kt_aug_opts_default itself gives natural */
 enum { KT_AUG_ORDER_DEFAULT = -1, KT_AUG_ORDER_NATURAL = 0, KT_AUG_ORDER_AMD, KT_AUG_ORDER_METIS };
 enum { KT_AUG_FACTOR_SUPERNODAL = 0, KT_AUG_FACTOR_SIMPLICIAL };
 
