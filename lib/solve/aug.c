@@ -88,7 +88,8 @@ const double *kt_aug_reaction(kt_aug *A, kt_err *e)
 
 /* ------------------------------------------------------------------ output */
 
-/* Room for the output arrays of the current mesh; a new node starts from its parent's u. */
+/* Room for the output arrays of the current mesh; a new node starts from its parent's u
+ * (CG's initial guess), an intact node (at set-up) from 0. */
 static int out_grow(kt_aug *A, int nn_old, kt_err *e)
 {
     const aug_stream *s = &A->s;
@@ -106,7 +107,8 @@ static int out_grow(kt_aug *A, int nn_old, kt_err *e)
     }
     for (int a = nn_old; a < s->mesh.nn; a++)
         for (int c = 0; c < 3; c++) {
-            A->uprev[3 * a + c] = A->uprev[3 * s->parent[a] + c];
+            int p = s->parent[a];
+            A->uprev[3 * a + c] = p >= 0 ? A->uprev[3 * p + c] : 0.0;
             A->u[3 * a + c] = A->react[3 * a + c] = 0;
         }
     return KT_OK;
