@@ -15,24 +15,21 @@ static const char *USAGE =
     "exactly from it; the other methods solve each step as soon as its 'end' arrives.\n"
     "  -o RUN_DIR            the run folder (created if needed; required)\n"
     "  --scene PATH          scene YAML (default: the one the edits header names)\n"
-    "  --method M            planned (default), augmented (the paper's iterative method),\n"
-    "                        refactor, cg, pcg-jacobi\n"
+    "  --method M            planned (default), augmented (the paper's method on the\n"
+    "                        append-only form: each step as it arrives), refactor, cg,\n"
+    "                        pcg-jacobi\n"
     "  --steps LIST          write only these steps (e.g. 3,6,10-12; step 0 always); the\n"
     "                        planned method solves only these, all from one factorization\n"
-    "  --tol T               relative residual to stop at (default 1e-10): of the Schur system\n"
-    "                        for GMRES, of K u = f for CG (steps.tsv reports the latter); the\n"
-    "                        planned method's largest backward error (one refinement step first)\n"
-    "  --restart N           GMRES restart length (default 200)\n"
-    "  --maxit N             iteration cap (default 2000 GMRES, 20000 CG)\n"
-    "  --precond P           none, diag (H D^-1 J), spai (H S J, tridiagonal) or\n"
-    "                        local (default; T^-1 by its block on Lset and the rows of J)\n"
+    "  --tol T               planned, augmented: largest backward error of the system solved\n"
+    "                        (one step of iterative refinement first; default 1e-10); CG: the\n"
+    "                        relative residual of K u = f to stop at\n"
+    "  --maxit N             CG iteration cap (default 20000)\n"
     "  --ordering O          natural, amd, metis (default metis for planned, where it orders\n"
     "                        the intact block, natural (the mesh's order) for the others)\n"
-    "  --factor F            supernodal (default) or simplicial\n"
-    "  --refactor POLICY     never (default), m>N, every:N, auto: background re-factorization\n"
-    "  --refactor-sync       wait for a started factorization at the next step (reproducible)\n"
+    "  --factor F            supernodal (default) or simplicial (planned, refactor; the\n"
+    "                        augmented method's factor is supernodal)\n"
     "  --output all|SET      displacements everywhere (default) or only on the nodes of the\n"
-    "                        named surface (restricted back-substitution; NaN elsewhere)\n"
+    "                        named surface (NaN elsewhere; planned: restricted back substitution)\n"
     "  --verify              also factor K from scratch each step and compare\n"
     "  --verify-tol T        largest accepted relative difference (default 1e-8)\n"
     "  --no-vtk              write no step VTKs (benchmarks)\n"
@@ -40,8 +37,10 @@ static const char *USAGE =
     "  -q, --quiet           no progress on stderr\n"
     "  -h, --help            this text\n"
     "      --version         the version (the CMake project version)\n"
-    "Exit status: 0 ok, 1 numerical failure (GMRES/CG missing --tol, a factor that is not\n"
-    "positive definite, a --verify difference above --verify-tol), 2 bad usage or input.\n"
+    "Exit status: 0 ok, 1 numerical failure (a backward error above --tol, CG missing --tol, a\n"
+    "factor that is not positive definite, a --verify difference above --verify-tol), 2 bad\n"
+    "usage or input (also the removed GMRES options --restart, --precond, --refactor,\n"
+    "--refactor-sync).\n"
     "See augsolve(1) and keratome-edits(5).\n";
 
 static int usage_error(const char *msg, const char *arg)
@@ -67,22 +66,18 @@ static int option(int c, const char *arg, kt_aug_run_opts *o)
     case O_TOL:
         return kt_parse_double(arg, &a->tol) || !(a->tol > 0 && a->tol < 1)
                    ? usage_error("--tol expects a number in (0, 1)", arg) : 0;
-    case O_RESTART:
-        return kt_parse_int(arg, &a->restart) || a->restart < 1
-                   ? usage_error("--restart expects a positive integer", arg) : 0;
+    case O_RESTART: case O_PRECOND: case O_REFACTOR: case O_SYNC:
+        return usage_error("--restart, --precond, --refactor and --refactor-sync were removed "
+                           "with GMRES: --method augmented is a direct "
+                           "bordered solve (one intact factor, a dense Schur factor grown by "
+                           "each step); see augsolve(1)", NULL);
     case O_MAXIT:
         return kt_parse_int(arg, &a->maxit) || a->maxit < 1
                    ? usage_error("--maxit expects a positive integer", arg) : 0;
-    case O_PRECOND:
-        return kt_aug_parse_precond(arg, &a->precond) ? usage_error("bad --precond", arg) : 0;
     case O_ORDERING:
         return kt_aug_parse_ordering(arg, &a->ordering) ? usage_error("bad --ordering", arg) : 0;
     case O_FACTOR:
         return kt_aug_parse_factor(arg, &a->factor) ? usage_error("bad --factor", arg) : 0;
-    case O_REFACTOR:
-        return kt_aug_parse_refactor(arg, &a->refactor, &a->refactor_n)
-                   ? usage_error("bad --refactor (never, m>N, every:N, auto)", arg) : 0;
-    case O_SYNC: a->refactor_sync = 1; return 0;
     case O_OUTPUT:
         n = (int)strlen(arg);
         if (n == 0 || n >= KT_NAME_MAX) return usage_error("bad --output", arg);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # augsolve_errors.sh BUILD_DIR: augsolve's documented failures. Bad edits streams exit 2 with
 # one "file:line:col: expected ..." line (or a step-level message) and leave no steps.tsv;
-# GMRES that cannot reach --tol exits 1; a good stream piped from cutplan runs to the end,
+# a backward error above --tol exits 1, the removed GMRES options exit 2; a good stream piped from cutplan runs to the end,
 # agrees with a fresh factorization (--verify) and its VTKs read back with meshio.
 set -uo pipefail
 B=${1:?build dir}
@@ -76,9 +76,14 @@ check "tet without that node" 2 "e6:5:[0-9]*: expected tets that hold node 1 (.*
 check "no scene" 2 "names no scene" "$T/r7" -- "$B/augsolve" "$T/beam.msh" "$T/e7" -o "$T/r7" -q
 check "bad option" 2 "bad --method" "$T/r8" -- "$B/augsolve" "$T/beam.msh" "$T/e7" -o "$T/r8" --method lu
 
-# Numerical failure: GMRES held to 1 iteration at an unreachable tolerance: exit 1.
-check "GMRES misses --tol" 1 "GMRES did not reach" "$T/r9" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r9" --method augmented --maxit 1 --tol 1e-15 --precond none -q
-check "--verify-tol exceeded" 1 "differ by" "$T/r10" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r10" --method augmented --tol 1e-3 --verify --verify-tol 1e-15 -q
+# Numerical failure: a backward error no solve reaches, even after refinement: exit 1.
+check "backward error above --tol" 1 "backward error .* exceeds --tol 1e-30 after a step of iterative refinement" "$T/r9" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r9" --method augmented --tol 1e-30 -q
+check "--verify-tol exceeded" 1 "differ by" "$T/r10" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r10" --method augmented --verify --verify-tol 1e-30 -q
+# The GMRES options went with GMRES: a clear usage error, nothing run.
+for opt in "--precond local" "--restart 50" "--refactor auto" "--refactor-sync"; do
+    # shellcheck disable=SC2086
+    check "removed option $opt" 2 "were removed with GMRES" "$T/r9b" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r9b" --method augmented $opt -q
+done
 
 # The planned method (default) checks the whole stream before it factors: a bad tet in the
 # last step is reported with its line, nothing is written.

@@ -261,10 +261,8 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     yaml_str(out.f, "edits", buf);
     fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(o->aug.method),
             r->mesh.order, steps);
-    static const char *const PRE[] = {"none", "diag", "spai", "local"},
-                             *const ORD[] = {"natural", "amd", "metis"};
-    fprintf(out.f, "tol: %g\nprecond: %s\nordering: %s\nfactor: %s\n", o->aug.tol,
-            PRE[o->aug.precond], ORD[o->aug.ordering],
+    static const char *const ORD[] = {"natural", "amd", "metis"};
+    fprintf(out.f, "tol: %g\nordering: %s\nfactor: %s\n", o->aug.tol, ORD[o->aug.ordering],
             o->aug.factor == KT_AUG_FACTOR_SIMPLICIAL ? "simplicial" : "supernodal");
     if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
     if (r->fallback) yaml_str(out.f, "fallback", r->fallback);
@@ -466,7 +464,8 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
 {
     kt_aug_run_opts o = *o_in;
     if (o.aug.ordering == KT_AUG_ORDER_DEFAULT)
-        o.aug.ordering = o.aug.method == KT_AUG_PLANNED ? KT_AUG_ORDER_METIS : KT_AUG_ORDER_NATURAL;
+        o.aug.ordering = o.aug.method == KT_AUG_PLANNED || o.aug.method == KT_AUG_AUGMENTED
+                             ? KT_AUG_ORDER_METIS : KT_AUG_ORDER_NATURAL;
     run *r = kt_calloc(1, sizeof *r, e);
     if (!r) return e->code;
     int steps = 0;
@@ -481,7 +480,7 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
             fprintf(stderr, "augsolve: the planned method does not apply (%s): falling back to "
                     "--method augmented\n", r->fallback);
             o.aug.method = KT_AUG_AUGMENTED;
-            o.aug.ordering = KT_AUG_ORDER_NATURAL;
+            o.aug.factor = KT_AUG_FACTOR_SUPERNODAL; /* its W is kept by supernode */
         }
     } else if (o.steps) {
         if (kt_plan_read(&r->plan, &r->rd, e) || parse_steps(r, o.steps, r->plan.nsteps, e))

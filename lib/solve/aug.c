@@ -1,5 +1,5 @@
-/* aug.c: the augmented solver's public interface: options, set-up, one step (edits, Lset, the
- * chosen method, re-factorization policy, verification) and the results. */
+/* aug.c: the stream solver's public interface: options, set-up, one step (edits -> appended
+ * variables -> the chosen method -> field -> verification) and the results. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,13 +10,10 @@ void kt_aug_opts_default(kt_aug_opts *o)
 {
     memset(o, 0, sizeof *o);
     o->method = KT_AUG_AUGMENTED;
-    o->precond = KT_AUG_PRECOND_LOCAL;
     o->ordering = KT_AUG_ORDER_NATURAL;
     o->factor = KT_AUG_FACTOR_SUPERNODAL;
     o->tol = 1e-10;
-    o->restart = 200;
     o->maxit = 0;
-    o->refactor = KT_AUG_REFACTOR_NEVER;
     o->verify_tol = 1e-8;
 }
 
@@ -36,12 +33,6 @@ int kt_aug_parse_method(const char *s, int *m) { return word(s, METHODS, 6, m); 
 const char *kt_aug_method_name(int m) { return m >= 1 && m <= 5 ? METHODS[m] : "?"; }
 
 
-int kt_aug_parse_precond(const char *s, int *p)
-{
-    static const char *const names[] = {"none", "diag", "spai", "local"};
-    return word(s, names, 4, p);
-}
-
 int kt_aug_parse_ordering(const char *s, int *o)
 {
     static const char *const names[] = {"natural", "amd", "metis"};
@@ -54,55 +45,39 @@ int kt_aug_parse_factor(const char *s, int *f)
     return word(s, names, 2, f);
 }
 
-int kt_aug_parse_refactor(const char *s, int *policy, int *n)
-{
-    *n = 0;
-    if (strcmp(s, "never") == 0) *policy = KT_AUG_REFACTOR_NEVER;
-    else if (strcmp(s, "auto") == 0) *policy = KT_AUG_REFACTOR_AUTO;
-    else if (strncmp(s, "m>", 2) == 0 && kt_parse_int(s + 2, n) == 0 && *n >= 0)
-        *policy = KT_AUG_REFACTOR_M_ABOVE;
-    else if (strncmp(s, "every:", 6) == 0 && kt_parse_int(s + 6, n) == 0 && *n >= 1)
-        *policy = KT_AUG_REFACTOR_EVERY;
-    else return -1;
-    return 0;
-}
 
 /* ------------------------------------------------------------------ results */
 
 const kt_aug_row *kt_aug_last(const kt_aug *a) { return &a->row; }
-const kt_mesh *kt_aug_mesh(const kt_aug *a) { return &a->mesh; }
+const kt_mesh *kt_aug_mesh(const kt_aug *a) { return &a->s.mesh; }
 const double *kt_aug_displacement(const kt_aug *a) { return a->u; }
-const int *kt_aug_origin(const kt_aug *a) { return a->origin; }
-const double *kt_aug_load(const kt_aug *a) { return a->f; }
+const int *kt_aug_origin(const kt_aug *a) { return a->s.origin; }
+const double *kt_aug_load(const kt_aug *a) { return a->s.f; }
 
 void kt_aug_factor_info(const kt_aug *a, double *nnzL, double *seconds)
 {
-    *nnzL = a->base ? a->base->nnzL : 0;
-    *seconds = a->base ? a->base->t_factor : 0;
+    *nnzL = a->have_factor ? a->F.nnzL : 0;
+    *seconds = a->have_factor ? a->F.t_factor : 0;
 }
 
-/* K(:,j).u - f_j at constrained DOFs from element columns (D DOFs of the augmented method
- * already have theirs from a2). */
+/* K(:,j).u - f_j at constrained DOFs, from element columns. */
 const double *kt_aug_reaction(kt_aug *A, kt_err *e)
 {
     if (A->react_valid) return A->react;
-    int nn = A->mesh.nn;
+    aug_stream *s = &A->s;
+    int nn = s->mesh.nn;
     memset(A->react, 0, 3 * (size_t)nn * sizeof(double));
-    if (A->o.method == KT_AUG_AUGMENTED) aug_react_from_a2(A);
     aug_col col[3] = {{0}};
     for (int a = 0; a < nn && !e->code; a++) {
-        int need = 0;
+        if (!(s->cons[3 * a] | s->cons[3 * a + 1] | s->cons[3 * a + 2]) ||
+            aug_node_columns(s, a, col, e))
+            continue;
         for (int c = 0; c < 3; c++) {
             int j = 3 * a + c;
-            need |= A->cons[j] && !(A->o.method == KT_AUG_AUGMENTED && A->Lpos[j] >= 0);
-        }
-        if (!need || aug_node_columns(A, a, col, e)) continue;
-        for (int c = 0; c < 3; c++) {
-            int j = 3 * a + c;
-            if (!A->cons[j] || (A->o.method == KT_AUG_AUGMENTED && A->Lpos[j] >= 0)) continue;
-            double s = -A->f[j];
-            for (int p = 0; p < col[c].n; p++) s += col[c].x[p] * A->u[col[c].i[p]];
-            A->react[j] = s;
+            if (!s->cons[j]) continue;
+            double r = -s->f[j];
+            for (int p = 0; p < col[c].n; p++) r += col[c].x[p] * A->u[col[c].i[p]];
+            A->react[j] = r;
         }
     }
     for (int c = 0; c < 3; c++) aug_col_free(&col[c]);
@@ -111,13 +86,60 @@ const double *kt_aug_reaction(kt_aug *A, kt_err *e)
     return A->react;
 }
 
+/* ------------------------------------------------------------------ output */
+
+/* Room for the output arrays of the current mesh; a new node starts from its parent's u
+ * (CG's initial guess), an intact node (at set-up) from 0. */
+static int out_grow(kt_aug *A, int nn_old, kt_err *e)
+{
+    const aug_stream *s = &A->s;
+    size_t n = 3 * (size_t)s->mesh.nn;
+    if (n > (size_t)A->out_cap) {
+        size_t cap = n > 2 * (size_t)A->out_cap ? n : 2 * (size_t)A->out_cap;
+        double *u = kt_realloc(A->u, cap, sizeof(double), e);
+        if (u) A->u = u;
+        double *r = u ? kt_realloc(A->react, cap, sizeof(double), e) : NULL;
+        if (r) A->react = r;
+        double *p = r ? kt_realloc(A->uprev, cap, sizeof(double), e) : NULL;
+        if (!p) return e->code;
+        A->uprev = p;
+        A->out_cap = (int)cap;
+    }
+    for (int a = nn_old; a < s->mesh.nn; a++)
+        for (int c = 0; c < 3; c++) {
+            int p = s->parent[a];
+            A->uprev[3 * a + c] = p >= 0 ? A->uprev[3 * p + c] : 0.0;
+            A->u[3 * a + c] = A->react[3 * a + c] = 0;
+        }
+    return KT_OK;
+}
+
+/* The --output set's DOFs on the current mesh. */
+static int output_mask(kt_aug *A, kt_err *e)
+{
+    if (!A->o.output[0]) return KT_OK;
+    const kt_mesh *m = &A->s.mesh;
+    const kt_group *g = kt_mesh_find_group(m, 2, A->o.output);
+    if (!g) g = kt_mesh_find_group(m, 3, A->o.output);
+    if (!g)
+        return kt_fail(e, KT_EINPUT, "--output %s: no surface or region of that name in the mesh",
+                       A->o.output);
+    free(A->outmask);
+    if (!(A->outmask = kt_calloc(3 * (size_t)m->nn, 1, e))) return e->code;
+    int *nodes = NULL, cnt = 0;
+    if (kt_mesh_group_nodes(m, g, &nodes, &cnt, e)) return e->code;
+    for (int k = 0; k < cnt; k++)
+        for (int c = 0; c < 3; c++) A->outmask[3 * nodes[k] + c] = 1;
+    free(nodes);
+    return KT_OK;
+}
+
 /* ------------------------------------------------------------------- a step */
 
 static void row_start(kt_aug *A)
 {
     memset(&A->row, 0, sizeof A->row);
-    A->row.step = A->step;
-    A->row.t_update = A->row.t_step1 = A->row.t_step2 = A->row.t_step3 = 0;
+    A->row.step = A->s.step;
     A->row.rel_residual = A->row.verify_rel_diff = A->row.t_verify = NAN;
     strcpy(A->row.refactor, "-");
 }
@@ -125,19 +147,14 @@ static void row_start(kt_aug *A)
 static void row_finish(kt_aug *A, int nn_before)
 {
     kt_aug_row *r = &A->row;
-    r->n_dofs = 3 * A->mesh.nn;
-    r->new_dofs = 3 * (A->mesh.nn - nn_before);
+    r->n_dofs = 3 * A->s.mesh.nn;
+    r->new_dofs = 3 * (A->s.mesh.nn - nn_before);
     if (A->o.method == KT_AUG_AUGMENTED) {
-        r->m = A->m;
-        r->nnz_L = A->base->nnzL;
-    } else {
-        r->m = 0;
-        r->closure_max = 0;
+        r->m = A->B.m;
+        r->closure_max = A->B.closure_max;
+        r->nnz_L = A->F.nnzL + A->B.wnnz + 0.5 * (double)A->B.m * (A->B.m + 1);
     }
     if (A->o.method == KT_AUG_CG || A->o.method == KT_AUG_PCG_JACOBI) r->t_step1 = r->t_step3 = NAN;
-    if (A->o.method != KT_AUG_AUGMENTED && A->o.method != KT_AUG_CG &&
-        A->o.method != KT_AUG_PCG_JACOBI)
-        r->iters = 0;
     r->t_total = r->t_update + (isnan(r->t_step1) ? 0 : r->t_step1) + r->t_step2 +
                  (isnan(r->t_step3) ? 0 : r->t_step3);
 }
@@ -150,13 +167,14 @@ static int solve_method(kt_aug *A, kt_err *e)
     case KT_AUG_CG: return aug_solve_cg(A, 0, e);
     case KT_AUG_PCG_JACOBI: return aug_solve_cg(A, 1, e);
     }
-    return kt_fail(e, KT_EINPUT, "unknown method %d", A->o.method);
+    return kt_fail(e, KT_EINPUT, "method %s does not solve a stream step by step",
+                   kt_aug_method_name(A->o.method));
 }
 
-/* Fresh factorization with CHOLMOD's defaults; compares on the output DOFs. */
+/* A fresh factorization (METIS, what a user would run) compared on the output DOFs. */
 static int verify(kt_aug *A, kt_err *e)
 {
-    int n = 3 * A->mesh.nn;
+    int n = 3 * A->s.mesh.nn;
     double *ref = kt_calloc((size_t)n, sizeof(double), e), relres = NAN, t0 = kt_now();
     if (!ref) return e->code;
     if (aug_fresh_solve(A, 0, ref, NULL, &relres, e) == KT_OK) {
@@ -170,55 +188,19 @@ static int verify(kt_aug *A, kt_err *e)
         A->row.verify_rel_diff = rmax > 0 ? dmax / rmax : dmax;
         if (!(A->row.verify_rel_diff <= A->o.verify_tol))
             kt_fail(e, KT_ERUN, "step %d: --verify: %s and a fresh factorization differ by %.3g "
-                    "(relative, max norm) > --verify-tol %.3g", A->step,
+                    "(relative, max norm) > --verify-tol %.3g", A->s.step,
                     kt_aug_method_name(A->o.method), A->row.verify_rel_diff, A->o.verify_tol);
     }
     free(ref);
     return e->code;
 }
 
-/* Start a background factorization if the policy says so. */
-static int policy(kt_aug *A, kt_err *e)
+static int after_solve(kt_aug *A, int nn_before, kt_err *e)
 {
-    if (A->o.method != KT_AUG_AUGMENTED || A->job) return KT_OK;
-    int go = 0;
-    switch (A->o.refactor) {
-    case KT_AUG_REFACTOR_M_ABOVE: go = A->m > A->o.refactor_n; break;
-    case KT_AUG_REFACTOR_EVERY: go = A->step % A->o.refactor_n == 0; break;
-    case KT_AUG_REFACTOR_AUTO: go = A->t_since_factor > A->base->t_factor; break;
-    }
-    if (!go) return KT_OK;
-    if (aug_job_start(A, e)) return e->code;
-    strcpy(A->row.refactor, strcmp(A->row.refactor, "swap") == 0 ? "swap+start" : "start");
+    row_finish(A, nn_before);
+    if (A->o.verify && verify(A, e)) return e->code;
+    memcpy(A->uprev, A->u, 3 * (size_t)A->s.mesh.nn * sizeof(double));
     return KT_OK;
-}
-
-/* GMRES stopped above --tol (at the floor rounding in the factor's solves sets, or at --maxit):
- * the step stands only if the whole system's backward error meets --tol instead. */
-static int check_short(kt_aug *A, double backward, kt_err *e)
-{
-    if (!(backward <= A->o.tol))
-        return kt_fail(e, KT_ERUN, "step %d: GMRES did not reach the relative residual %.3g "
-                       "(stopped at %.3g after %d iterations; m = %d) and the system's backward "
-                       "error %.3g exceeds it too: the answer is not accurate; use a "
-                       "preconditioner, raise --restart, or loosen --tol", A->step, A->o.tol,
-                       A->gmres_short, A->row.iters, A->m, backward);
-    kt_log(A->o.quiet, "augsolve: step %d: GMRES stopped at the relative residual %.3g above --tol "
-           "%.3g (the floor rounding in the factor's solves sets); the system's backward error "
-           "%.3g meets it: accepted\n", A->step, A->gmres_short, A->o.tol, backward);
-    return KT_OK;
-}
-
-static int after_solve(kt_aug *A, kt_err *e)
-{
-    if (A->o.method == KT_AUG_AUGMENTED) {
-        double backward;
-        if (aug_residual(A, &A->row.rel_residual, &backward, e)) return e->code;
-        if (A->gmres_short > 0 && check_short(A, backward, e)) return e->code;
-    }
-    if (!e->code && A->o.verify) verify(A, e);
-    if (!e->code) memcpy(A->uprev, A->u, 3 * (size_t)A->mesh.nn * sizeof(double));
-    return e->code;
 }
 
 int kt_aug_create(kt_aug **out, const kt_aug_problem *p, const kt_aug_opts *o, kt_err *e)
@@ -227,22 +209,23 @@ int kt_aug_create(kt_aug **out, const kt_aug_problem *p, const kt_aug_opts *o, k
     kt_aug *A = kt_calloc(1, sizeof *A, e);
     if (!A) return e->code;
     A->o = *o;
+    if (o->method == KT_AUG_AUGMENTED && o->factor == KT_AUG_FACTOR_SIMPLICIAL) {
+        free(A);
+        return kt_fail(e, KT_EINPUT, "--factor simplicial: the augmented method factors the "
+                       "intact stiffness supernodally (its W columns are kept by supernode)");
+    }
     cholmod_start(&A->c);
     A->c_started = 1;
     row_start(A);
     double t0 = kt_now();
-    if (aug_state_init(A, p, e) || aug_output_mask(A, e)) goto fail;
+    if (aug_stream_init(&A->s, p, e) || out_grow(A, 0, e) || output_mask(A, e)) goto fail;
     if (A->o.method == KT_AUG_AUGMENTED) {
-        aug_snapshot s;
-        if (aug_snapshot_take(A, &s, e)) goto fail;
-        aug_base *b = aug_base_build(&s, e);
-        aug_snapshot_free(&s);
-        if (!b || aug_install(A, b, e)) goto fail;
+        if (aug_intact_build(&A->F, &A->s, A->o.ordering, &A->c, e)) goto fail;
+        A->have_factor = 1;
+        if (aug_border_init(&A->B, &A->F, e)) goto fail;
     }
     A->row.t_update = aug_ms(kt_now() - t0);
-    if (solve_method(A, e)) goto fail;
-    row_finish(A, A->mesh.nn);
-    if (after_solve(A, e)) goto fail;
+    if (solve_method(A, e) || after_solve(A, A->s.mesh.nn, e)) goto fail;
     *out = A;
     return KT_OK;
 fail:
@@ -250,42 +233,43 @@ fail:
     return e->code;
 }
 
-int kt_aug_step(kt_aug *A, const kt_step *s, kt_err *e)
+int kt_aug_step(kt_aug *A, const kt_step *st, kt_err *e)
 {
-    if (s->index != A->step + 1)
-        return kt_fail(e, KT_EINPUT, "step %d follows step %d (expected step %d)", s->index,
-                       A->step, A->step + 1);
-    A->step++;
-    row_start(A);
-    int nn_before = A->mesh.nn;
-    if (A->o.method == KT_AUG_AUGMENTED) {
-        int rc = aug_job_poll(A, A->o.refactor_sync, e);
-        if (rc < 0) return e->code;
-        if (rc > 0) strcpy(A->row.refactor, "swap");
-    }
+    if (st->index != A->s.step + 1)
+        return kt_fail(e, KT_EINPUT, "step %d follows step %d (expected step %d)", st->index,
+                       A->s.step, A->s.step + 1);
+    int nn_before = A->s.mesh.nn, *newc = NULL, nc = 0;
     double t0 = kt_now();
-    int *touched = NULL, nt = 0, *newc = NULL, nc = 0;
-    aug_apply_edits(A, s, &touched, &nt, &newc, &nc, e);
-    if (!e->code && A->o.method == KT_AUG_AUGMENTED) aug_update_lset(A, touched, nt, newc, nc, e);
-    free(touched);
+    if (aug_stream_apply(&A->s, st, &newc, &nc, e) || out_grow(A, nn_before, e) ||
+        output_mask(A, e)) {
+        free(newc);
+        return e->code;
+    }
+    row_start(A);
+    double t1 = kt_now();
+    if (A->o.method == KT_AUG_AUGMENTED)
+        aug_border_append(&A->B, &A->F, &A->s, nn_before, newc, nc, e);
     free(newc);
     if (e->code) return e->code;
-    if (A->outmask && aug_output_mask(A, e)) return e->code;
-    A->row.t_update = aug_ms(kt_now() - t0);
+    A->row.t_update = aug_ms(t1 - t0);
+    A->row.t_step1 = aug_ms(kt_now() - t1);
     if (solve_method(A, e)) return e->code;
-    row_finish(A, nn_before);
-    A->t_since_factor += A->row.t_total / 1e3;
-    if (policy(A, e)) return e->code;
-    return after_solve(A, e);
+    return after_solve(A, nn_before, e);
 }
 
 void kt_aug_free(kt_aug *A)
 {
     if (!A) return;
-    aug_job_cancel(A);
-    aug_solve_free(A);
-    aug_base_free(A->base);
-    aug_state_free(A);
+    aug_rhs_free(&A->r);
+    if (A->have_factor) {
+        aug_border_free(&A->B, &A->F);
+        aug_intact_free(&A->F, &A->c);
+    }
+    aug_stream_free(&A->s);
+    free(A->u);
+    free(A->react);
+    free(A->uprev);
+    free(A->outmask);
     if (A->c_started) cholmod_finish(&A->c);
     free(A);
 }

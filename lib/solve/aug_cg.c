@@ -9,6 +9,22 @@
 
 double aug_ms(double seconds) { return 1e3 * seconds; }
 
+int aug_analyze(cholmod_sparse *K, int ordering, int factor, cholmod_common *c,
+                cholmod_factor **L, kt_err *e)
+{
+    c->nmethods = 1;
+    c->method[0].ordering = ordering == KT_AUG_ORDER_AMD     ? CHOLMOD_AMD
+                            : ordering == KT_AUG_ORDER_METIS ? CHOLMOD_METIS
+                                                             : CHOLMOD_NATURAL;
+    /* natural: keep mesh-prep's elimination order exactly (no postordering) */
+    c->postorder = ordering != KT_AUG_ORDER_NATURAL;
+    c->supernodal = factor == KT_AUG_FACTOR_SIMPLICIAL ? CHOLMOD_SIMPLICIAL : CHOLMOD_SUPERNODAL;
+    c->final_ll = 0;
+    *L = cholmod_analyze(K, c);
+    if (!*L) return kt_fail(e, KT_ERUN, "CHOLMOD analyze failed (status %d)", c->status);
+    return KT_OK;
+}
+
 /* Identity rows and columns at the constrained DOFs of a lower-stored K. */
 static void set_identity(cholmod_sparse *K, const unsigned char *cons)
 {
@@ -22,14 +38,15 @@ static void set_identity(cholmod_sparse *K, const unsigned char *cons)
 /* K with identity at C and b = f lifted (g on C rows), loads recomputed from the mesh. */
 static cholmod_sparse *assemble(kt_aug *A, double *b, cholmod_common *c, kt_err *e)
 {
-    if (aug_full_loads(A, b, e)) return NULL;
-    cholmod_sparse *K = kt_fem_assemble(&A->mesh, &A->mats, NULL, c, e);
+    if (aug_stream_loads(&A->s, e)) return NULL;
+    memcpy(b, A->s.f, 3 * (size_t)A->s.mesh.nn * sizeof(double));
+    cholmod_sparse *K = kt_fem_assemble(&A->s.mesh, &A->s.mats, NULL, c, e);
     if (!K) return NULL;
-    if (kt_fem_lift(K, A->cons, A->g, b, e)) {
+    if (kt_fem_lift(K, A->s.cons, A->s.g, b, e)) {
         cholmod_free_sparse(&K, c);
         return NULL;
     }
-    set_identity(K, A->cons);
+    set_identity(K, A->s.cons);
     return K;
 }
 
@@ -50,7 +67,7 @@ static double free_residual(kt_aug *A, cholmod_sparse *K, const double *u, const
     cholmod_sdmult(K, 0, one, zero, &U, R, c);
     double num = 0, den = 0, *r = R->x;
     for (int i = 0; i < n; i++)
-        if (!A->cons[i]) {
+        if (!A->s.cons[i]) {
             num += (r[i] - b[i]) * (r[i] - b[i]);
             den += b[i] * b[i];
         }
@@ -61,7 +78,7 @@ static double free_residual(kt_aug *A, cholmod_sparse *K, const double *u, const
 static int fresh_with(kt_aug *A, cholmod_common *c, int use_opts, double *u, double *t,
                       double *relres, kt_err *e)
 {
-    size_t n = 3 * (size_t)A->mesh.nn;
+    size_t n = 3 * (size_t)A->s.mesh.nn;
     double t0 = kt_now();
     double *b = kt_calloc(n, sizeof(double), e);
     if (!b) return e->code;
@@ -70,13 +87,12 @@ static int fresh_with(kt_aug *A, cholmod_common *c, int use_opts, double *u, dou
     double t1 = kt_now(), t2 = t1, t3 = t1;
     if (K) {
         if (use_opts) aug_analyze(K, A->o.ordering, A->o.factor, c, &L, e);
-        else if (!(L = cholmod_analyze(K, c)))
-            kt_fail(e, KT_ERUN, "CHOLMOD analyze failed (status %d)", c->status);
+        else aug_analyze(K, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, c, &L, e);
     }
     t2 = kt_now();
     if (L) {
         char what[32];
-        snprintf(what, sizeof what, "step %d", A->step);
+        snprintf(what, sizeof what, "step %d", A->s.step);
         kt_chol_factor(K, L, c, what, e);
     }
     t3 = kt_now();
@@ -105,7 +121,7 @@ static int fresh_with(kt_aug *A, cholmod_common *c, int use_opts, double *u, dou
 int aug_fresh_solve(kt_aug *A, int use_opts, double *u, double *t, double *relres, kt_err *e)
 {
     if (use_opts) return fresh_with(A, &A->c, 1, u, t, relres, e);
-    cholmod_common c; /* CHOLMOD's own defaults: an independent reference */
+    cholmod_common c; /* its own: METIS, postordered, supernodal (what a user would run) */
     cholmod_start(&c);
     fresh_with(A, &c, 0, u, t, relres, e);
     cholmod_finish(&c);
@@ -167,7 +183,7 @@ static double *jacobi(const cholmod_sparse *K, kt_err *e)
  * previous step's displacement (a new node starts from the node it was split from). */
 int aug_solve_cg(kt_aug *A, int use_jacobi, kt_err *e)
 {
-    int n = 3 * A->mesh.nn;
+    int n = 3 * A->s.mesh.nn;
     double t0 = kt_now();
     double *b = kt_calloc((size_t)n, sizeof(double), e);
     if (!b) return e->code;
@@ -176,8 +192,8 @@ int aug_solve_cg(kt_aug *A, int use_jacobi, kt_err *e)
     double t1 = kt_now();
     if (!e->code) {
         for (int i = 0; i < n; i++) {
-            A->u[i] = A->cons[i] ? 0.0 : A->uprev[i];
-            if (A->cons[i]) b[i] = 0;
+            A->u[i] = A->s.cons[i] ? 0.0 : A->uprev[i];
+            if (A->s.cons[i]) b[i] = 0;
         }
         kt_krylov_opts ko = {A->o.tol, 0, A->o.maxit > 0 ? A->o.maxit : 20000};
         kt_krylov_stats st;
@@ -186,11 +202,11 @@ int aug_solve_cg(kt_aug *A, int use_jacobi, kt_err *e)
             A->row.rel_residual = st.relres;
             if (!st.converged)
                 kt_fail(e, KT_ERUN, "step %d: %s did not reach the relative residual %.3g in %d "
-                        "iterations (reached %.3g): raise --maxit or loosen --tol", A->step,
+                        "iterations (reached %.3g): raise --maxit or loosen --tol", A->s.step,
                         use_jacobi ? "Jacobi-PCG" : "CG", A->o.tol, st.iters, st.relres);
         }
         for (int i = 0; i < n; i++)
-            if (A->cons[i]) A->u[i] = A->g[i];
+            if (A->s.cons[i]) A->u[i] = A->s.g[i];
     }
     double t2 = kt_now();
     A->row.t_update += aug_ms(t1 - t0);

@@ -35,17 +35,17 @@ static int local_of(const int *t, int nv, int a)
     return -1;
 }
 
-/* The neighbours of a (nodes sharing a tet, a first) get slots 0..nb-1 in A->nmark. */
-static int neighbour_slots(kt_aug *A, int a, int *nodes, int cap)
+/* The neighbours of a (nodes sharing a tet, a first) get slots 0..nb-1 in s->nmark. */
+static int neighbour_slots(aug_stream *s, int a, int *nodes, int cap)
 {
-    int nv = kt_tet_nv(A->mesh.order), nb = 0;
-    A->nstamp++;
-    for (int k = 0; k < A->adj_n[a]; k++) {
-        const int *t = A->mesh.tet + (size_t)A->adj[a][k] * nv;
+    int nv = kt_tet_nv(s->mesh.order), nb = 0;
+    s->nstamp++;
+    for (int k = 0; k < s->adj_n[a]; k++) {
+        const int *t = s->mesh.tet + (size_t)s->adj[a][k] * nv;
         for (int l = 0; l < nv; l++) {
             int b = t[l];
-            if (A->nmark[b] == A->nstamp) continue;
-            A->nmark[b] = A->nstamp;
+            if (s->nmark[b] == s->nstamp) continue;
+            s->nmark[b] = s->nstamp;
             if (nb < cap) nodes[nb] = b;
             nb++;
         }
@@ -61,15 +61,15 @@ static int slot_of(const int *nodes, int nb, int b)
 }
 
 /* Add tet t's contribution to the three columns of node a, accumulated densely by slot. */
-static int add_tet(kt_aug *A, int tet, int a, const int *nodes, int nb, double *acc, double *Ke,
+static int add_tet(aug_stream *s, int tet, int a, const int *nodes, int nb, double *acc, double *Ke,
                    kt_err *e)
 {
-    int nv = kt_tet_nv(A->mesh.order), nd = 3 * nv;
-    const int *t = A->mesh.tet + (size_t)tet * nv;
-    int tag = A->mesh.tet_tag[tet];
-    if (tag < 0 || tag >= A->mats.nmat)
+    int nv = kt_tet_nv(s->mesh.order), nd = 3 * nv;
+    const int *t = s->mesh.tet + (size_t)tet * nv;
+    int tag = s->mesh.tet_tag[tet];
+    if (tag < 0 || tag >= s->mats.nmat)
         return kt_fail(e, KT_EINPUT, "tet %d has region tag %d without a material", tet + 1, tag);
-    if (kt_fem_element(&A->mesh, &A->mats, tet, Ke, e)) return e->code;
+    if (kt_fem_element(&s->mesh, &s->mats, tet, Ke, e)) return e->code;
     int la = local_of(t, nv, a);
     for (int l = 0; l < nv; l++) {
         int s = slot_of(nodes, nb, t[l]);
@@ -80,21 +80,21 @@ static int add_tet(kt_aug *A, int tet, int a, const int *nodes, int nb, double *
     return KT_OK;
 }
 
-int aug_node_columns(kt_aug *A, int a, aug_col col[3], kt_err *e)
+int aug_node_columns(aug_stream *s, int a, aug_col col[3], kt_err *e)
 {
     int nodes_small[256];
-    int nb = neighbour_slots(A, a, nodes_small, 256);
+    int nb = neighbour_slots(s, a, nodes_small, 256);
     int *nodes = nodes_small;
     if (nb > 256) {
         nodes = kt_calloc((size_t)nb, sizeof(int), e);
         if (!nodes) return e->code;
-        neighbour_slots(A, a, nodes, nb);
+        neighbour_slots(s, a, nodes, nb);
     }
     double *acc = kt_calloc((size_t)nb * 9, sizeof(double), e);
     double *Ke = kt_calloc(900, sizeof(double), e);
     for (int k = 0; k < 3 && !e->code; k++) aug_col_reserve(&col[k], 3 * nb, e);
-    for (int k = 0; k < A->adj_n[a] && !e->code; k++)
-        add_tet(A, A->adj[a][k], a, nodes, nb, acc, Ke, e);
+    for (int k = 0; k < s->adj_n[a] && !e->code; k++)
+        add_tet(s, s->adj[a][k], a, nodes, nb, acc, Ke, e);
     if (!e->code)
         for (int c = 0; c < 3; c++) {
             col[c].n = 0;

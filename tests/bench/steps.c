@@ -7,8 +7,8 @@
  *   - t_factor_ms: the time of the factorization in use (augmented), and the wall budget
  *     (--budget SECONDS): steps after it is spent are not run (status "budget").
  *
- *   bench_steps MESH EDITS [--scene S] [--method M] [--tol T] [--maxit N] [--precond P]
- *               [--restart N] [--refactor POLICY] [--refactor-sync] [--verify] [--keep-going]
+ *   bench_steps MESH EDITS [--scene S] [--method M] [--tol T] [--maxit N] [--verify]
+ *               [--keep-going]
  *               [--budget S] [--max-steps N] [--tag NAME]
  * stdout: TSV with a header line. Exit 1 if a step failed (even with --keep-going). */
 #define _POSIX_C_SOURCE 200809L
@@ -38,18 +38,13 @@ static int parse(int argc, char **argv, opts *o)
         if (!strcmp(a, "--scene")) o->scene = v;
         else if (!strcmp(a, "--tag")) o->tag = v;
         else if (!strcmp(a, "--method")) bad = kt_aug_parse_method(v, &o->aug.method);
-        else if (!strcmp(a, "--precond")) bad = kt_aug_parse_precond(v, &o->aug.precond);
-        else if (!strcmp(a, "--refactor"))
-            bad = kt_aug_parse_refactor(v, &o->aug.refactor, &o->aug.refactor_n);
         else if (!strcmp(a, "--tol")) bad = kt_parse_double(v, &o->aug.tol);
         else if (!strcmp(a, "--maxit")) bad = kt_parse_int(v, &o->aug.maxit);
-        else if (!strcmp(a, "--restart")) bad = kt_parse_int(v, &o->aug.restart);
         else if (!strcmp(a, "--budget")) bad = kt_parse_double(v, &o->budget);
         else if (!strcmp(a, "--max-steps")) bad = kt_parse_int(v, &o->max_steps);
         else {
             arg = 0;
             if (!strcmp(a, "--verify")) o->aug.verify = 1;
-            else if (!strcmp(a, "--refactor-sync")) o->aug.refactor_sync = 1;
             else if (!strcmp(a, "--keep-going")) o->keep_going = 1;
             else if (a[0] != '-' && pos == 0) o->mesh = a, pos++;
             else if (a[0] != '-' && pos == 1) o->edits = a, pos++;
@@ -104,8 +99,7 @@ int main(int argc, char **argv)
     opts o;
     if (parse(argc, argv, &o)) {
         fprintf(stderr, "usage: bench_steps MESH EDITS [--scene S] [--method M] [--tol T] "
-                        "[--maxit N] [--precond P] [--restart N] [--refactor POLICY] "
-                        "[--refactor-sync] [--verify] [--keep-going] [--budget S] "
+                        "[--maxit N] [--verify] [--keep-going] [--budget S] "
                         "[--max-steps N] [--tag NAME]\n");
         return 2;
     }

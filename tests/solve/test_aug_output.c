@@ -1,5 +1,5 @@
-/* test_aug_output.c: the restricted back-substitution (--output SET) gives the full solve's
- * values on the set; GMRES that cannot reach its tolerance is a loud KT_ERUN; bad edits are
+/* test_aug_output.c: --output SET gives the full solve's values on the set and NaN off it; a
+ * backward error above --tol after refinement is a loud KT_ERUN; bad edits are
  * KT_EINPUT; a 1,000-step run that only changes forces does not grow in memory. */
 #include <stdio.h>
 #include <unistd.h>
@@ -63,8 +63,6 @@ static void test_restricted(scenario *s)
             }
         CHECK(off > 0 && nan_off == off, "step %d: %d of %d nodes off the set are NaN", step,
               nan_off, off);
-        CHECK(kt_aug_last(B)->closure_max < 3 * kt_aug_mesh(A)->nn,
-              "step %d: the restricted solve touched all %d DOFs", step, 3 * kt_aug_mesh(A)->nn);
         free(in);
         free(nodes);
     }
@@ -73,24 +71,19 @@ static void test_restricted(scenario *s)
     kt_aug_free(B);
 }
 
+/* A backward error that cannot be met (after one step of refinement) is a loud KT_ERUN. */
 static void test_no_convergence(scenario *s)
 {
     kt_err e = {0};
     kt_aug_opts o;
     kt_aug_opts_default(&o);
     o.quiet = 1;
-    o.maxit = 1;
-    o.tol = 1e-15;
-    o.precond = KT_AUG_PRECOND_NONE;
+    o.tol = 1e-30;
     kt_aug *A = NULL;
-    CHECK(kt_aug_create(&A, &s->prob, &o, &e) == KT_OK, "%s", e.msg);
-    if (!A) return;
-    kt_step st = {0};
-    st.index = 1;
-    cut_layer(s, kt_aug_mesh(A), &st, 2, s->nz - 1, 0.001, &e);
-    CHECK(kt_aug_step(A, &st, &e) == KT_ERUN, "expected KT_ERUN, got %d", e.code);
-    CHECK(strstr(e.msg, "GMRES did not reach") != NULL, "message: %s", e.msg);
-    kt_step_free(&st);
+    CHECK(kt_aug_create(&A, &s->prob, &o, &e) == KT_ERUN, "expected KT_ERUN, got %d", e.code);
+    CHECK(strstr(e.msg, "backward error") != NULL && strstr(e.msg, "refinement") != NULL,
+          "message: %s", e.msg);
+    CHECK(A == NULL, "a failed create returns no solver");
     kt_aug_free(A);
 }
 

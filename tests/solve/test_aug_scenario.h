@@ -68,13 +68,14 @@ static inline double tet_cx(const kt_mesh *m, int t, int axis)
     return c / 4;
 }
 
-/* Append a dup of node a moving its tets whose centroid has x > x0 (the + side of the cut). */
-static inline int add_dup(const kt_mesh *m, kt_step *st, int a, int new_node, double x0, kt_err *e)
+/* Append a dup of node a moving its tets whose centroid has coordinate axis > x0. */
+static inline int add_dup_axis(const kt_mesh *m, kt_step *st, int a, int new_node, int axis,
+                               double x0, kt_err *e)
 {
     int *el = malloc(sizeof(int) * 64), nel = 0;
     for (int t = 0; t < m->ne && nel < 64; t++)
         for (int l = 0; l < 4; l++)
-            if (m->tet[4 * t + l] == a && tet_cx(m, t, 0) > x0) {
+            if (m->tet[4 * t + l] == a && tet_cx(m, t, axis) > x0) {
                 el[nel++] = t;
                 break;
             }
@@ -82,6 +83,12 @@ static inline int add_dup(const kt_mesh *m, kt_step *st, int a, int new_node, do
     int rc = kt_step_add(st, &ed, e);
     free(el);
     return rc;
+}
+
+/* Append a dup of node a moving its tets whose centroid has x > x0 (the + side of the cut). */
+static inline int add_dup(const kt_mesh *m, kt_step *st, int a, int new_node, double x0, kt_err *e)
+{
+    return add_dup_axis(m, st, a, new_node, 0, x0, e);
 }
 
 /* Cut step: split the nodes of layer k on the plane x = xi*h (all j), pulling each pair apart
