@@ -64,17 +64,33 @@ typedef struct kt_plan_factor {
     int *Tp, *Ti;               /* the trailing block L22 (columns and rows >= nK, shifted by */
     double *Tx;                 /* nK), CSC, diagonal first: the increments' forward solve */
     double *y0, *bK0;           /* L^-1 P [bK0; 0] and the intact rows bK0 it was made from */
+    int nshort;                 /* forward solves that took the increments-only path */
     unsigned char *want;        /* NULL, or the supernodes a restricted back substitution needs */
     int want_cols;              /* their columns */
     int nlift;                  /* A(i, j) with i or j constrained, both orientations: */
     int *lrow, *lcol;           /* variables */
     double *lval;
     double t_assemble, t_order, t_factor, nnzL;
+    double lnz_ref, fl_ref;     /* predicted nonzeros and flops of METIS on the intact block */
+    double lnz_plan, fl_plan;   /* predicted for the planned order */
+    int refused;                /* 1: the planned factor is too large (why), not factored */
+    char why[256];
 } kt_plan_factor;
 
-/* Assemble A on the final mesh, order (ordering: KT_AUG_ORDER_* for K's block) and factor. */
+/* Default of max_ratio (augsolve --plan-max-ratio): the planned factor's predicted flops may
+ * be this many times those of METIS on the intact block. The issue's budget for the whole plan
+ * is 3 METIS factorizations; the eye's plan predicts 1.5-2x (tests/bench/README.md), the
+ * 5,000-node split of the 5x5x1024 beam ~1,000x (a dense Schur block on 15,000 increments). */
+#define KT_PLAN_MAX_RATIO 3.0
+
+/* Assemble A on the final mesh, order (ordering: KT_AUG_ORDER_* for K's block) and factor.
+ * After the analysis, when the planned order's predicted factor nonzeros or flops exceed
+ * max_ratio times those of the intact block's fill-reducing order (which a fresh
+ * factorization of any step costs at least, up to its new DOFs; max_ratio <= 0: no check),
+ * nothing is factored: F->refused = 1 and F->why says so (the caller falls back). */
 int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
-                         const kt_materials *mats, int ordering, int factor, kt_err *e);
+                         const kt_materials *mats, int ordering, int factor, double max_ratio,
+                         kt_err *e);
 void kt_plan_factor_free(kt_plan_factor *F);
 
 /* Restricted output (aug_plan_out.c): from now on the back substitution computes only what
@@ -96,6 +112,9 @@ typedef struct kt_plan_state {
     double *u;                  /* 3 nn: displacement of the cut mesh, mm */
     double *react;              /* 3 nn: K u - f at constrained DOFs, else 0 */
     double *tf;                 /* 3 nn: T^T f, the loads each variable sums */
+    double *fe_rel;             /* ne x 3 nv: each tet's prestress internal forces, computed
+                                   once (a cut moves a tet to other nodes, never changes its
+                                   geometry or prestress); NULL without prestress */
     double *b, *x, *r, *ax;     /* right-hand side, solution, residual, scratch (free positions) */
     double t_edits;             /* s to apply the last step's edits */
     kt_aug_row row;

@@ -189,6 +189,8 @@ static int *order(kt_plan_factor *F, int ordering, kt_err *e)
     F->c.postorder = 1;
     F->c.supernodal = CHOLMOD_SIMPLICIAL;
     cholmod_factor *Lb = B ? cholmod_analyze(B, &F->c) : NULL;
+    F->lnz_ref = F->c.lnz;
+    F->fl_ref = F->c.fl;
     if (Lb) memcpy(P, Lb->Perm, sizeof(int) * (size_t)F->nK);
     else kt_fail(e, KT_ERUN, "CHOLMOD analysis of the intact block failed (status %d)", F->c.status);
     cholmod_free_factor(&Lb, &F->c);
@@ -200,7 +202,22 @@ static int *order(kt_plan_factor *F, int ordering, kt_err *e)
     return P;
 }
 
-static int factorize(kt_plan_factor *F, const int *P, int factor, kt_err *e)
+/* The analysis's prediction against the intact block's: refuse beyond max_ratio. */
+static void size_check(kt_plan_factor *F, double max_ratio)
+{
+    F->lnz_plan = F->c.lnz;
+    F->fl_plan = F->c.fl;
+    if (!(max_ratio > 0) || !(F->lnz_ref > 0) || !(F->fl_ref > 0)) return;
+    double rl = F->lnz_plan / F->lnz_ref, rf = F->fl_plan / F->fl_ref;
+    if (rl <= max_ratio && rf <= max_ratio) return;
+    F->refused = 1;
+    snprintf(F->why, sizeof F->why, "its factor would hold %.3g nonzeros and take %.3g flops, "
+             "%.3gx and %.3gx those of METIS on the intact block (%.3g, %.3g), beyond "
+             "--plan-max-ratio %g", F->lnz_plan, F->fl_plan, rl, rf, F->lnz_ref, F->fl_ref,
+             max_ratio);
+}
+
+static int factorize(kt_plan_factor *F, const int *P, int factor, double max_ratio, kt_err *e)
 {
     F->c.nmethods = 1;
     F->c.method[0].ordering = CHOLMOD_GIVEN;
@@ -213,6 +230,8 @@ static int factorize(kt_plan_factor *F, const int *P, int factor, kt_err *e)
     for (int q = 0; q < F->nfree; q++)
         if (LP[q] != P[q])
             return kt_fail(e, KT_ERUN, "CHOLMOD did not keep the given order at %d", q);
+    size_check(F, max_ratio);
+    if (F->refused) return KT_OK;
     cholmod_factorize(F->A, F->L, &F->c);
     if (F->c.status == CHOLMOD_NOT_POSDEF || F->L->minor < F->L->n)
         return kt_fail(e, KT_ERUN, "the planned augmented matrix is not positive definite at "
@@ -280,7 +299,8 @@ static int trailing_block(kt_plan_factor *F, kt_err *e)
 }
 
 int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
-                         const kt_materials *mats, int ordering, int factor, kt_err *e)
+                         const kt_materials *mats, int ordering, int factor, double max_ratio,
+                         kt_err *e)
 {
     memset(F, 0, sizeof *F);
     cholmod_start(&F->c);
@@ -290,7 +310,7 @@ int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *fin
     int *P = order(F, ordering, e);
     if (!P) return e->code;
     double t1 = kt_now();
-    if (factorize(F, P, factor, e) == KT_OK) trailing_block(F, e);
+    if (factorize(F, P, factor, max_ratio, e) == KT_OK && !F->refused) trailing_block(F, e);
     free(P);
     F->t_order = t1 - t0;
     F->t_factor = kt_now() - t1;

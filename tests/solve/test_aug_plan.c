@@ -129,8 +129,9 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
     CHECK(p.usable, "%s: plan refused: %s", name, p.why);
     for (int a = p.nn0; a < p.nn; a++) splits2 += p.parent[a] >= p.nn0;
     CHECK(splits2 > 0, "%s: the stream splits no node twice", name);
-    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, ordering, factor, &e) == KT_OK,
-          "%s: factor: %s", name, e.msg);
+    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, ordering, factor, KT_PLAN_MAX_RATIO,
+                               &e) == KT_OK && !F.refused,
+          "%s: factor: %s %s", name, e.msg, F.why);
     CHECK(kt_plan_state_init(&S, &p, &s->prob, &e) == KT_OK, "%s: state: %s", name, e.msg);
     if (only) {
         unsigned char *on = surface_nodes(&final, only);
@@ -224,6 +225,39 @@ static void check_validation(scenario *s)
     fclose(f);
 }
 
+/* The size check: the planned factor of the box's plan against METIS on its intact block;
+ * refused (nothing factored, the reason given) just below its own ratio, built just above. */
+static void check_size_refusal(scenario *s, FILE *f)
+{
+    kt_err e = {0};
+    kt_plan p;
+    kt_mesh final = {0};
+    kt_plan_factor F = {0};
+    CHECK(read_plan(f, &p, &e) == KT_OK && kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK,
+          "size: %s", e.msg);
+    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
+                               KT_AUG_FACTOR_SUPERNODAL, 0, &e) == KT_OK && !F.refused,
+          "size: no check: %s", e.msg);
+    double rl = F.lnz_plan / F.lnz_ref, rf = F.fl_plan / F.fl_ref, r = fmax(rl, rf);
+    CHECK(rl > 1 && rf > 1 && F.lnz_plan >= F.nnzL * 0.999 && F.lnz_plan <= F.nnzL * 1.001,
+          "size: predicted %g (factor %g) vs METIS %g; flops %g vs %g", F.lnz_plan, F.nnzL,
+          F.lnz_ref, F.fl_plan, F.fl_ref);
+    kt_plan_factor_free(&F);
+    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
+                               KT_AUG_FACTOR_SUPERNODAL, 0.99 * r, &e) == KT_OK,
+          "size: refusal is no error: %s", e.msg);
+    CHECK(F.refused && F.nnzL == 0 && !F.Tp && strstr(F.why, "--plan-max-ratio"),
+          "size: ratio %g not refused at %g (why '%s')", r, 0.99 * r, F.why);
+    kt_plan_factor_free(&F);
+    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
+                               KT_AUG_FACTOR_SUPERNODAL, 1.01 * r, &e) == KT_OK &&
+              !F.refused && F.nnzL > 0,
+          "size: ratio %g refused at %g", r, 1.01 * r);
+    kt_plan_factor_free(&F);
+    kt_mesh_free(&final);
+    kt_plan_free(&p);
+}
+
 int main(void)
 {
     kt_err e = {0};
@@ -241,6 +275,7 @@ int main(void)
               nsteps + 1, "amd supernodal: not every step checked");
     CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, "zmax", "zmax only") ==
               nsteps + 1, "zmax only: not every step checked");
+    check_size_refusal(&s, f);
     fclose(f);
     check_validation(&s);
     scenario_free(&s);
