@@ -77,17 +77,19 @@ typedef struct kt_plan_factor {
     char why[256];
 } kt_plan_factor;
 
-/* Default of max_ratio (augsolve --plan-max-ratio): the planned factor's predicted flops may
- * be this many times those of METIS on the intact block. The issue's budget for the whole plan
- * is 3 METIS factorizations; the eye's plan predicts 1.5-2x (tests/bench/README.md), the
- * 5,000-node split of the 5x5x1024 beam ~1,000x (a dense Schur block on 15,000 increments). */
-#define KT_PLAN_MAX_RATIO 3.0
+/* Default of max_ratio (augsolve --plan-max-ratio): the planned factor may hold this many
+ * times the nonzeros of METIS's factor of the intact block. The factor is most of a run's
+ * peak memory and the issue's memory budget is 2x a METIS refactor run; the eye's plan predicts
+ * 1.29x (flops 2.2x), the 5,000-node split of the 5x5x1024 beam far more (a dense Schur block
+ * on its 15,000 increments; tests/bench/README.md). */
+#define KT_PLAN_MAX_RATIO 4.0
 
 /* Assemble A on the final mesh, order (ordering: KT_AUG_ORDER_* for K's block) and factor.
- * After the analysis, when the planned order's predicted factor nonzeros or flops exceed
- * max_ratio times those of the intact block's fill-reducing order (which a fresh
- * factorization of any step costs at least, up to its new DOFs; max_ratio <= 0: no check),
- * nothing is factored: F->refused = 1 and F->why says so (the caller falls back). */
+ * After the analysis, when the planned order's predicted factor holds more than max_ratio
+ * times the nonzeros of the intact block's fill-reducing order (a lower bound of a fresh
+ * factorization of any step, up to its new DOFs), or needs more flops than nsteps + 1 fresh
+ * factorizations of it (max_ratio <= 0, or the natural order: no check), nothing is factored:
+ * F->refused = 1 and F->why says so (the caller falls back). */
 int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
                          const kt_materials *mats, int ordering, int factor, double max_ratio,
                          kt_err *e);

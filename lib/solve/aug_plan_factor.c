@@ -202,22 +202,26 @@ static int *order(kt_plan_factor *F, int ordering, kt_err *e)
     return P;
 }
 
-/* The analysis's prediction against the intact block's: refuse beyond max_ratio. */
-static void size_check(kt_plan_factor *F, double max_ratio)
+/* The analysis's prediction against the intact block's METIS analysis: refuse when the factor
+ * would hold more than max_ratio times its nonzeros (memory: the factor is most of a run's
+ * peak), or take more flops than a fresh factorization at every step would (nsteps + 1 times
+ * the intact block's: the plan would then cost more than refactoring). */
+static void size_check(kt_plan_factor *F, double max_ratio, int nsteps)
 {
     F->lnz_plan = F->c.lnz;
     F->fl_plan = F->c.fl;
     if (!(max_ratio > 0) || !(F->lnz_ref > 0) || !(F->fl_ref > 0)) return;
     double rl = F->lnz_plan / F->lnz_ref, rf = F->fl_plan / F->fl_ref;
-    if (rl <= max_ratio && rf <= max_ratio) return;
+    if (rl <= max_ratio && rf <= nsteps + 1) return;
     F->refused = 1;
-    snprintf(F->why, sizeof F->why, "its factor would hold %.3g nonzeros and take %.3g flops, "
+    snprintf(F->why, sizeof F->why, "its factor would hold %.3g nonzeros and take %.3g flops: "
              "%.3gx and %.3gx those of METIS on the intact block (%.3g, %.3g), beyond "
-             "--plan-max-ratio %g", F->lnz_plan, F->fl_plan, rl, rf, F->lnz_ref, F->fl_ref,
-             max_ratio);
+             "--plan-max-ratio %g or the %d fresh factorizations of the plan's steps",
+             F->lnz_plan, F->fl_plan, rl, rf, F->lnz_ref, F->fl_ref, max_ratio, nsteps + 1);
 }
 
-static int factorize(kt_plan_factor *F, const int *P, int factor, double max_ratio, kt_err *e)
+static int factorize(kt_plan_factor *F, const int *P, int factor, double max_ratio, int nsteps,
+                     kt_err *e)
 {
     F->c.nmethods = 1;
     F->c.method[0].ordering = CHOLMOD_GIVEN;
@@ -230,7 +234,7 @@ static int factorize(kt_plan_factor *F, const int *P, int factor, double max_rat
     for (int q = 0; q < F->nfree; q++)
         if (LP[q] != P[q])
             return kt_fail(e, KT_ERUN, "CHOLMOD did not keep the given order at %d", q);
-    size_check(F, max_ratio);
+    size_check(F, max_ratio, nsteps);
     if (F->refused) return KT_OK;
     cholmod_factorize(F->A, F->L, &F->c);
     if (F->c.status == CHOLMOD_NOT_POSDEF || F->L->minor < F->L->n)
@@ -310,7 +314,7 @@ int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *fin
     int *P = order(F, ordering, e);
     if (!P) return e->code;
     double t1 = kt_now();
-    if (factorize(F, P, factor, max_ratio, e) == KT_OK && !F->refused) trailing_block(F, e);
+    if (factorize(F, P, factor, max_ratio, p->nsteps, e) == KT_OK && !F->refused) trailing_block(F, e);
     free(P);
     F->t_order = t1 - t0;
     F->t_factor = kt_now() - t1;

@@ -191,7 +191,9 @@ static int forward(kt_plan_factor *F, int N, double *b, int shortcut, double sca
         if (solve_sys(F, CHOLMOD_P, &B0, &F->w[0], e) || solve_sys(F, CHOLMOD_L, F->w[0], &F->w[1], e))
             return e->code;
         memcpy(F->y0, F->w[1]->x, (size_t)F->nfree * sizeof(double));
-        return forward(F, N, b, shortcut, scale, e);
+        int rc = forward(F, N, b, shortcut, scale, e);
+        F->nshort--; /* the step that made y0 did the full forward solve */
+        return rc;
     }
     if (solve_sys(F, CHOLMOD_P, &B, &F->w[0], e) || solve_sys(F, CHOLMOD_L, F->w[0], &F->w[1], e))
         return e->code;
