@@ -58,6 +58,7 @@ typedef struct kt_plan_factor {
     int nfree, nK;              /* free variables; the first nK are intact DOFs */
     int *pos;                   /* nvar: position among the free variables, -1: constrained */
     int *nfree_at;              /* nsteps+1: free variables present after step k */
+    double *fro_at;             /* nsteps+1: ||A_k||_F, the leading block of step k */
     cholmod_sparse *A;          /* A_FF: the free block, lower triangle, in free positions */
     cholmod_factor *L;          /* L L^T = P A_FF P^T, P = L->Perm */
     cholmod_dense *w[2], *Y, *E;/* solve workspaces */

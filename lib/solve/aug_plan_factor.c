@@ -4,6 +4,7 @@
  * factored once. */
 #include "aug_plan.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,6 +23,7 @@ void kt_plan_factor_free(kt_plan_factor *F)
     }
     free(F->pos);
     free(F->nfree_at);
+    free(F->fro_at);
     free(F->lrow);
     free(F->lcol);
     free(F->lval);
@@ -155,6 +157,26 @@ static int assemble(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
     cholmod_free_triplet(&s.T, &F->c);
     F->t_assemble = kt_now() - t0;
     return e->code;
+}
+
+/* ||A_k||_F for every step: each stored entry (i, j), i >= j, belongs to the leading blocks
+ * from the step that releases position i on; twice for off-diagonal entries. */
+static int frobenius(kt_plan_factor *F, int nsteps, kt_err *e)
+{
+    if (!(F->fro_at = kt_calloc((size_t)nsteps + 1, sizeof(double), e))) return e->code;
+    const int *Ap = F->A->p, *Ai = F->A->i;
+    const double *Ax = F->A->x;
+    int k = 0;
+    for (int j = 0; j < F->nfree; j++)
+        for (int q = Ap[j]; q < Ap[j + 1]; q++) {
+            int i = Ai[q];
+            while (k > 0 && F->nfree_at[k - 1] > i) k--;
+            while (F->nfree_at[k] <= i) k++;
+            F->fro_at[k] += (i == j ? 1 : 2) * Ax[q] * Ax[q];
+        }
+    for (k = 1; k <= nsteps; k++) F->fro_at[k] += F->fro_at[k - 1];
+    for (k = 0; k <= nsteps; k++) F->fro_at[k] = sqrt(F->fro_at[k]);
+    return KT_OK;
 }
 
 /* The leading nK x nK block of A (the intact stiffness on its free DOFs). */
@@ -309,7 +331,8 @@ int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *fin
     memset(F, 0, sizeof *F);
     cholmod_start(&F->c);
     F->started = 1;
-    if (positions(F, p, e) || assemble(F, p, final, mats, e)) return e->code;
+    if (positions(F, p, e) || assemble(F, p, final, mats, e) || frobenius(F, p->nsteps, e))
+        return e->code;
     double t0 = kt_now();
     int *P = order(F, ordering, e);
     if (!P) return e->code;

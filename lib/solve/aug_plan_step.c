@@ -226,33 +226,34 @@ static int substitute(kt_plan_factor *F, int N, double *b, double *x, int shortc
     return KT_OK;
 }
 
-/* r = b - A_k x on the first N positions; returns ||r|| / ||b|| and sets *backward to
- * ||r|| / (|| |A_k| |x| || + ||b||). ax: N scratch values. */
-static double residual(const kt_plan_factor *F, int N, const double *b, const double *x, double *r,
-                       double *ax, double *backward)
+/* r = b - A_k x on the first N positions; returns ||r|| / ||b|| and sets *backward to the
+ * normwise backward error ||r|| / (||A_k||_F ||x|| + ||b||) (2-norms, ||A_k||_F = fro from
+ * F->fro_at). It bounds the componentwise form ||r|| / (|| |A_k| |x| || + ||b||) from below by
+ * at most ||A_k||_F ||x|| / || |A_k| |x| || and costs one pass over A's lower triangle. */
+static double residual(const kt_plan_factor *F, int N, double fro, const double *b,
+                       const double *x, double *r, double *backward)
 {
     const int *Ap = F->A->p, *Ai = F->A->i;
     const double *Ax = F->A->x;
     memcpy(r, b, (size_t)N * sizeof(double));
-    memset(ax, 0, (size_t)N * sizeof(double));
-    for (int j = 0; j < N; j++)
+    for (int j = 0; j < N; j++) {
+        double xj = x[j], sj = 0;
         for (int q = Ap[j]; q < Ap[j + 1]; q++) {
             int i = Ai[q];
             if (i >= N) continue;
-            r[i] -= Ax[q] * x[j];
-            ax[i] += fabs(Ax[q] * x[j]);
-            if (i != j) {
-                r[j] -= Ax[q] * x[i];
-                ax[j] += fabs(Ax[q] * x[i]);
-            }
+            sj += Ax[q] * x[i];
+            if (i != j) r[i] -= Ax[q] * xj;
         }
-    double rr = 0, bb = 0, aa = 0;
+        r[j] -= sj;
+    }
+    double rr = 0, bb = 0, xx = 0;
     for (int i = 0; i < N; i++) {
         rr += r[i] * r[i];
         bb += b[i] * b[i];
-        aa += ax[i] * ax[i];
+        xx += x[i] * x[i];
     }
-    *backward = aa + bb > 0 ? sqrt(rr) / (sqrt(aa) + sqrt(bb)) : 0;
+    double den = fro * sqrt(xx) + sqrt(bb);
+    *backward = den > 0 ? sqrt(rr) / den : 0;
     return bb > 0 ? sqrt(rr / bb) : sqrt(rr);
 }
 
@@ -291,13 +292,13 @@ int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
     double t1 = kt_now();
     if (substitute(F, N, s->b, s->x, 1, scale, ts, e)) return e->code;
     double t2 = kt_now(), backward = 0, rel = NAN;
-    if (!F->want) rel = residual(F, N, s->b, s->x, s->r, s->ax, &backward);
+    if (!F->want) rel = residual(F, N, F->fro_at[s->step], s->b, s->x, s->r, &backward);
     s->row.iters = 0;
     if (!(backward <= tol)) { /* one step of iterative refinement */
         memset(s->r + N, 0, (size_t)(F->nfree - N) * sizeof(double));
         if (substitute(F, N, s->r, s->ax, 0, scale, ts, e)) return e->code;
         for (int i = 0; i < N; i++) s->x[i] += s->ax[i];
-        rel = residual(F, N, s->b, s->x, s->r, s->ax, &backward);
+        rel = residual(F, N, F->fro_at[s->step], s->b, s->x, s->r, &backward);
         s->row.iters = 1;
     }
     if (!(backward <= tol))

@@ -113,6 +113,21 @@ static double diff_on(const double *u, const double *ref, const unsigned char *o
     return m > 0 ? d / m : d;
 }
 
+/* ||A_k||_F of every step from A's lower triangle, against F->fro_at (the backward error's). */
+static void check_frobenius(const kt_plan_factor *F, int nsteps, const char *name)
+{
+    const int *Ap = F->A->p, *Ai = F->A->i;
+    const double *Ax = F->A->x;
+    for (int k = 0; k <= nsteps; k++) {
+        double ss = 0;
+        int N = F->nfree_at[k];
+        for (int j = 0; j < N; j++)
+            for (int q = Ap[j]; q < Ap[j + 1]; q++)
+                if (Ai[q] < N) ss += (Ai[q] == j ? 1 : 2) * Ax[q] * Ax[q];
+        CHECK_NEAR(F->fro_at[k], sqrt(ss), 1e-12 * sqrt(ss), name);
+    }
+}
+
 /* Every step of the plan against a fresh factorization (only on the surface group "only" when
  * given: the restricted back substitution); returns the steps checked. */
 static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *only,
@@ -133,6 +148,7 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
                                &e) == KT_OK && !F.refused,
           "%s: factor: %s %s", name, e.msg, F.why);
     CHECK(kt_plan_state_init(&S, &p, &s->prob, &e) == KT_OK, "%s: state: %s", name, e.msg);
+    check_frobenius(&F, p.nsteps, name);
     if (only) {
         unsigned char *on = surface_nodes(&final, only);
         CHECK(kt_plan_factor_restrict(&F, &p, on, &e) == KT_OK, "%s: restrict: %s", name, e.msg);
