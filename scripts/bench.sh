@@ -1019,11 +1019,13 @@ part_stability() {
 # same process: the ratio under the same load, and the accuracy) and, where the case has an
 # output surface, planned --output SET --verify. bench_table (lib/io/benchtab.c, unit-tested)
 # writes planned/CASE.md from the step tables and time records; the load average before and
-# after each case goes beside it. --methods filters the labels planned, refactor+metis,
-# refactor, pcg-jacobi, planned-verify, planned-output.
+# after each case goes beside it. --cases REGEX selects cases (beam-5x5x1024, eye, bunny),
+# --methods the labels planned, refactor+metis, refactor, pcg-jacobi, planned-verify,
+# planned-output.
 planned_case() { # CASE MESH EDITS SET
     local c=$1 msh=$2 ed=$3 set=$4 D=$R/planned lab name args tables=()
     [ -s "$ed" ] || { log "  $c: no edits ($ed)"; return 1; }
+    if [ -n "$CASES" ] && ! [[ $c =~ $CASES ]]; then return 0; fi
     printf '%s\tbefore\t%s\n' "$c" "$(cut -d' ' -f1-3 /proc/loadavg)" >>"$D/load.tsv"
     for lab in planned refactor+metis refactor pcg-jacobi planned-verify planned-output; do
         if [ -n "$METHODS" ] && [[ $METHODS != *" $lab "* ]]; then continue; fi

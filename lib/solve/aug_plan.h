@@ -115,6 +115,8 @@ typedef struct kt_plan_state {
     double *u;                  /* 3 nn: displacement of the cut mesh, mm */
     double *react;              /* 3 nn: K u - f at constrained DOFs, else 0 */
     double *tf;                 /* 3 nn: T^T f, the loads each variable sums */
+    int npown, *pown;           /* tets with 3 corners on a pressure surface (tet numbers) */
+    kt_mesh pview;              /* the cut mesh restricted to them: what the pressures read */
     double *fe_rel;             /* ne x 3 nv: each tet's prestress internal forces, computed
                                    once (a cut moves a tet to other nodes, never changes its
                                    geometry or prestress); NULL without prestress */

@@ -19,6 +19,8 @@ void kt_plan_state_free(kt_plan_state *s)
     free(s->f);
     free(s->tf);
     free(s->fe_rel);
+    free(s->pown);
+    free(s->pview.tet);
     free(s->v);
     free(s->u);
     free(s->react);
@@ -42,6 +44,53 @@ static int release_forces(kt_plan_state *s, const kt_aug_problem *prob, kt_err *
     return KT_OK;
 }
 
+/* The tets a pressure can load: those with three corners on a pressure surface (a superset of
+ * the tets whose face is a triangle of it; tets keep their numbers through cuts, and so do
+ * the surfaces' triangles). The pressures of a step are those of the view of the cut mesh
+ * with these tets only: every loaded triangle is still the face of exactly one of them, the
+ * one it bounds, and the fem layer walks its faces in the same order, so the loads are
+ * bitwise those of the whole mesh at a fraction of the search. */
+static int pressure_tets(kt_plan_state *s, const kt_aug_problem *prob, kt_err *e)
+{
+    const kt_mesh *m = prob->mesh;
+    int fv = kt_tri_nv(m->order), nv = kt_tet_nv(m->order);
+    unsigned char *on = kt_calloc((size_t)m->nn, 1, e);
+    if (!on) return e->code;
+    for (int t = 0; t < m->nf; t++)
+        for (int k = 0; k < prob->npress; k++)
+            if (m->tri_tag[t] == prob->press[k].tag)
+                for (int a = 0; a < 3; a++) on[m->tri[(size_t)t * fv + a]] = 1;
+    for (int pass = 0; pass < 2 && !e->code; pass++) {
+        s->npown = 0;
+        for (int el = 0; el < m->ne; el++) {
+            const int *t = m->tet + (size_t)el * nv;
+            if (on[t[0]] + on[t[1]] + on[t[2]] + on[t[3]] < 3) continue;
+            if (pass) s->pown[s->npown] = el;
+            s->npown++;
+        }
+        if (!pass) {
+            s->pown = kt_calloc((size_t)s->npown + 1, sizeof(int), e);
+            s->pview.tet = kt_calloc(((size_t)s->npown + 1) * nv, sizeof(int), e);
+        }
+    }
+    free(on);
+    return e->code;
+}
+
+/* The view for this step: the current nodes of the pressure tets, the mesh's triangles. */
+static void pressure_view(kt_plan_state *s)
+{
+    const kt_mesh *m = &s->mesh;
+    int nv = kt_tet_nv(m->order);
+    int *tet = s->pview.tet;
+    s->pview = *m;
+    s->pview.tet = tet;
+    s->pview.tet_tag = NULL;
+    s->pview.ne = s->npown;
+    for (int k = 0; k < s->npown; k++)
+        memcpy(tet + (size_t)k * nv, m->tet + (size_t)s->pown[k] * nv, (size_t)nv * sizeof(int));
+}
+
 int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
                        kt_err *e)
 {
@@ -60,6 +109,7 @@ int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_aug_problem 
     s->ax = kt_calloc(n, sizeof(double), e);
     if (e->code || kt_mesh_copy(&s->mesh, prob->mesh, e)) return e->code;
     for (int a = 0; a < p->nn0; a++) s->origin[a] = a;
+    if (pressure_tets(s, prob, e)) return e->code;
     return release_forces(s, prob, e);
 }
 
@@ -86,8 +136,9 @@ static int loads(kt_plan_state *s, const kt_aug_problem *prob, kt_err *e)
 {
     size_t n = 3 * (size_t)s->mesh.nn;
     memset(s->f, 0, n * sizeof(double));
+    pressure_view(s);
     for (int k = 0; k < prob->npress; k++)
-        if (kt_fem_pressure(&s->mesh, prob->press[k].tag, prob->press[k].p, s->f, e))
+        if (kt_fem_pressure(&s->pview, prob->press[k].tag, prob->press[k].p, s->f, e))
             return e->code;
     if (s->fe_rel) {
         int nv = kt_tet_nv(s->mesh.order);

@@ -166,6 +166,16 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
         double d = diff_on(S.u, ref, on, S.mesh.nn);
         free(on);
         CHECK(d <= 1e-10, "%s: step %d: planned vs fresh %.3g", name, k, d);
+        /* the loads from the pressure tets' view are bitwise those of the whole cut mesh */
+        double *fw = calloc(3 * (size_t)S.mesh.nn, sizeof(double));
+        for (int q = 0; q < s->prob.npress; q++)
+            kt_fem_pressure(&S.mesh, s->prob.press[q].tag, s->prob.press[q].p, fw, &e);
+        int same = 1;
+        for (int i = 0; i < 3 * S.mesh.nn; i++) same &= fw[i] + S.force[i] == S.f[i];
+        CHECK(same && s->prob.npress > 0 && S.npown < S.mesh.ne,
+              "%s: step %d: loads differ from the whole mesh's (%d of %d tets)", name, k, S.npown,
+              S.mesh.ne);
+        free(fw);
         CHECK(S.row.m == F.nfree_at[k] - F.nK, "%s: step %d: m", name, k);
         if (!only) check_equilibrium(&S, k);
         checked++;
