@@ -49,6 +49,12 @@ scene ring $'model: eye\neye:\n  incision_rings:\n    - {name: lri, diameter: 12
 expect_fail "ring outside the cornea" "ring.yaml:4:29: eye.incision_rings\[0\].diameter: expected a diameter in" \
     "$tmp/ring.yaml" -o "$tmp/out/x.msh"
 
+# The eye's sizes bound the work before any meshing: 20 um everywhere asks for about a billion
+# tets (estimated from the regions' volumes), refused at the mesh_size block.
+scene budget $'model: eye\norder: 2\neye:\n  mesh_size: {optical_zone: 20 um, incision: 20 um, cornea: 20 um, sclera: 20 um}\n'
+expect_fail "eye sizes beyond the tet budget" "budget.yaml:4:14: eye.mesh_size: expected sizes that ask for at most 2000000 tets at order 2" \
+    "$tmp/budget.yaml" -o "$tmp/out/x.msh"
+
 scene nofile $'model: surface\nsurface:\n  file: missing.off\n  facet_size: 1 mm\n  facet_distance: 0.1 mm\n  cell_size: 1 mm\n'
 expect_fail "missing model file" "nofile.yaml:3:9: surface.file: expected an existing, readable file" \
     "$tmp/nofile.yaml" -o "$tmp/out/x.msh"

@@ -77,14 +77,19 @@ for key in mesh scene plan edits; do
     else bad "after the move, run.yaml $key '$p' does not resolve"; fi
 done
 # Two augsolve runs into one folder: the second is refused while the first holds it (its edits
-# come from a pipe that stays open for a few seconds after the last step).
+# come from a FIFO that this script keeps open until the second run has ended, so the first run
+# holds the folder however slowly a loaded machine starts it).
 B2="$T/moved/in"
 "$B/cutplan" -q "$B2/cut-beam-4.yaml" "$B2/beam.msh" -o "$B2/cut.edits" || bad "cutplan after the move"
-{ cat "$B2/cut.edits"; sleep 4; } | "$B/augsolve" -q "$B2/beam.msh" - -o "$T/shared" --no-vtk 2>"$T/errA" &
+mkfifo "$T/fifoA"
+"$B/augsolve" -q "$B2/beam.msh" "$T/fifoA" -o "$T/shared" --no-vtk 2>"$T/errA" &
 apid=$!
-for _ in $(seq 40); do [ -e "$T/shared/.augsolve.lock" ] && break; sleep 0.1; done
+exec 4>"$T/fifoA"
+cat "$B2/cut.edits" >&4
+for _ in $(seq 600); do [ -e "$T/shared/.augsolve.lock" ] && break; sleep 0.1; done
 "$B/augsolve" -q "$B2/beam.msh" "$B2/cut.edits" -o "$T/shared" --no-vtk 2>"$T/errB"
 rc=$?
+exec 4>&-
 if [ $rc -eq 2 ] && grep -q "another augsolve is writing into this run folder" "$T/errB"; then
     ok "second augsolve into a busy folder: exit 2: $(cat "$T/errB")"
 else bad "second augsolve into a busy folder: exit $rc"; cat "$T/errB"; fi
@@ -98,7 +103,7 @@ mkfifo "$T/fifo"
 kpid=$!
 exec 3>"$T/fifo"
 sed -n '1,/^end$/p' "$B2/cut.edits" >&3     # the header and step 1 only
-for _ in $(seq 100); do [ -e "$T/shared/.augsolve.lock" ] && [ ! -e "$T/shared/run.yaml" ] && break; sleep 0.1; done
+for _ in $(seq 600); do [ -e "$T/shared/.augsolve.lock" ] && [ ! -e "$T/shared/run.yaml" ] && break; sleep 0.1; done
 sleep 1
 kill -9 $kpid; wait $kpid 2>/dev/null
 exec 3>&-

@@ -74,8 +74,12 @@ static void print_sizes(FILE *f, const run_info *r)
     const kt_eye *eye = &r->s->eye;
     double hc, ho;
     kt_eye_sizes(eye, r->order, &hc, &ho);
-    fprintf(f, "sizes        optical zone %g mm, incision %g mm, cornea %g mm, sclera %g mm\n", ho,
-            eye->h_incision, hc, eye->h_sclera);
+    kt_err ge = {0};
+    double tets = NAN;
+    kt_eye_estimate_tets(eye, r->order, &tets, &ge);
+    fprintf(f, "sizes        optical zone %g mm, incision %g mm, cornea %g mm, sclera %g mm\n"
+               "             (about %.0f tets estimated before meshing; at most %d)\n", ho,
+            eye->h_incision, hc, eye->h_sclera, tets, KT_EYE_MAX_TETS);
     if (hc < eye->h_cornea || ho < eye->h_optical)
         fprintf(f, "             (eye.mesh_size asks for optical zone %g mm, cornea %g mm: element order %d "
                    "allows at most %.3g mm, central_thickness/%g)\n", eye->h_optical, eye->h_cornea, r->order,
@@ -240,6 +244,18 @@ done:
     return e->code;
 }
 
+/* The scene reader bounds the eye's tets at the scene's order; --order can ask for another. */
+static int check_budget(const kt_prep_opts *o, const kt_scene *s, int order, kt_err *e)
+{
+    if (s->model != KT_MODEL_EYE || order == s->order) return KT_OK;
+    kt_err ge = {0};
+    double tets;
+    if (kt_eye_estimate_tets(&s->eye, order, &tets, &ge) || tets <= KT_EYE_MAX_TETS) return KT_OK;
+    return kt_fail(e, KT_EINPUT, "%s: eye.mesh_size: expected sizes that ask for at most %d tets "
+                   "at order %d (--order), these ask for about %.3g million (keratome-scene(5), "
+                   "LIMITS)", o->scene, KT_EYE_MAX_TETS, order, tets / 1e6);
+}
+
 int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e)
 {
     kt_scene *s = kt_calloc(1, sizeof *s, e);
@@ -253,6 +269,7 @@ int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e)
     r.s = s;
     r.order = o->order ? o->order : s->order;
     r.chosen = o->ordering ? o->ordering : s->ordering;
+    if (check_budget(o, s, r.order, e)) goto done;
     run_mesh(o, s, &r, &m, summary, e);
 done:
     kt_mesh_free(&m);

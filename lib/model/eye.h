@@ -32,6 +32,15 @@ void kt_eye_sizes(const kt_eye *eye, int order, double *h_cornea, double *h_opti
 /* The divisor of that rule: 2.5 for order 1, 1 for order 2. */
 double kt_eye_layers(int order);
 
+/* Most tets a scene's eye may ask for (estimated by kt_eye_estimate_tets): about 2.8 million
+ * order-2 nodes, 8.4 million DOFs, whose factorization needs more than a 24 GiB machine holds;
+ * gmsh takes about an hour to mesh it on 2 cores. */
+#define KT_EYE_MAX_TETS 2000000
+/* *tets = the number of tets the eye's size fields ask for at this order, estimated from the
+ * regions' volumes before meshing (eye_budget.c: low rather than high, by up to about 20%).
+ * Inconsistent geometry is KT_EINPUT, as in kt_eye_geom_init. */
+int kt_eye_estimate_tets(const kt_eye *eye, int order, double *tets, kt_err *e);
+
 
 /* Lamellar frames of the eye's tets (eye.fibres; keratome-scene(5)), at each tet's centroid:
  * F[13 t + 0..2] a1 and [3..5] a2, the in-plane fibre directions (nasal-temporal and

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "eye.h"
 #include "scene_int.h"
 #include "yml.h"
 
@@ -514,6 +515,22 @@ static int parse_model(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
     }
 }
 
+/* The work an eye's mesh sizes ask for, bounded before any meshing (eye_budget.c). A geometry
+ * the estimate cannot take is left to the mesher, which names what is wrong with it. */
+static int check_budget(kt_yml *y, yaml_node_t *root, const kt_scene *s, kt_err *e)
+{
+    if (s->model != KT_MODEL_EYE) return KT_OK;
+    kt_err ge = {0};
+    double tets;
+    if (kt_eye_estimate_tets(&s->eye, s->order, &tets, &ge)) return KT_OK;
+    if (tets <= KT_EYE_MAX_TETS) return KT_OK;
+    yaml_node_t *eye = kt_yml_get(y, root, "eye"), *sizes = eye ? kt_yml_get(y, eye, "mesh_size") : NULL;
+    return kt_yml_fail(y, sizes ? sizes : eye ? eye : root, e,
+                       "eye.mesh_size: expected sizes that ask for at most %d tets at order %d, these ask "
+                       "for about %.3g million (keratome-scene(5), LIMITS)", KT_EYE_MAX_TETS, s->order,
+                       tets / 1e6);
+}
+
 static int parse_scene(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
 {
     if (kt_yml_check_map(y, root, "scene", TOP_KEYS, e)) return e->code;
@@ -525,7 +542,7 @@ static int parse_scene(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
     if (kt_yml_key_choice(y, root, "", "model", MODELS, &model, e)) return e->code;
     s->model = model + 1;
     if (kt_yml_key_int(y, root, "", "order", 1, 2, &s->order, e)) return e->code;
-    if (parse_model(y, root, s, e)) return e->code;
+    if (parse_model(y, root, s, e) || check_budget(y, root, s, e)) return e->code;
     if ((v = kt_yml_get(y, root, "ordering")) && parse_ordering(y, v, s, e)) return e->code;
     yaml_node_t *mats = kt_yml_get(y, root, "materials"), *loads = kt_yml_get(y, root, "loads"),
                 *fix = kt_yml_get(y, root, "fixation");
