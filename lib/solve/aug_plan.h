@@ -68,6 +68,7 @@ typedef struct kt_plan_factor {
     int nshort;                 /* forward solves that took the increments-only path */
     unsigned char *want;        /* NULL, or the supernodes a restricted back substitution needs */
     int want_cols;              /* their columns */
+    double *rwork;              /* a supernode's rows: the restricted substitution's workspace */
     int nlift;                  /* A(i, j) with i or j constrained, both orientations: */
     int *lrow, *lcol;           /* variables */
     double *lval;

@@ -33,6 +33,7 @@ void kt_plan_factor_free(kt_plan_factor *F)
     free(F->y0);
     free(F->bK0);
     free(F->want);
+    free(F->rwork);
     memset(F, 0, sizeof *F);
 }
 
