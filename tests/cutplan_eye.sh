@@ -17,6 +17,7 @@ export LSAN_OPTIONS="suppressions=$tmp/lsan.supp:print_suppressions=0"
 # (P1, as this test was written for: the cut's topology does not depend on the order)
 sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.6 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.3 mm/' \
     -e 's/^    cornea: [0-9.]* mm/    cornea: 0.8 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 2.5 mm/' \
+    -e '/^    incision_floor:/d' \
     -e 's/^order: 2 /order: 1 /' plans/eye.yaml > "$tmp/eye.yaml"
 cp plans/lri-paired-60.yaml "$tmp/plan.yaml"
 grep -q "incision: 0.3 mm" "$tmp/eye.yaml" || { echo "FAILED: could not coarsen the eye"; exit 1; }

@@ -49,6 +49,18 @@ scene ring $'model: eye\neye:\n  incision_rings:\n    - {name: lri, diameter: 12
 expect_fail "ring outside the cornea" "ring.yaml:4:29: eye.incision_rings\[0\].diameter: expected a diameter in" \
     "$tmp/ring.yaml" -o "$tmp/out/x.msh"
 
+scene floorlow $'model: eye\neye:\n  mesh_size: {incision: 0.2 mm, incision_floor: 2 um}\n'
+expect_fail "incision floor below its bound" "floorlow.yaml:3:49: eye.mesh_size.incision_floor: expected a length in \\[0.005, 1\\] mm" \
+    "$tmp/floorlow.yaml" -o "$tmp/out/x.msh"
+
+scene floorhigh $'model: eye\neye:\n  mesh_size: {incision: 0.2 mm, incision_floor: 0.3 mm}\n'
+expect_fail "incision floor coarser than the ring" "floorhigh.yaml:3:49: eye.mesh_size.incision_floor: expected at most mesh_size.incision \\(0.2 mm\\)" \
+    "$tmp/floorhigh.yaml" -o "$tmp/out/x.msh"
+
+scene floorunit $'model: eye\neye:\n  mesh_size:\n    incision_floor: 30\n'
+expect_fail "incision floor without a unit" "floorunit.yaml:4:21: eye.mesh_size.incision_floor: expected a length" \
+    "$tmp/floorunit.yaml" -o "$tmp/out/x.msh"
+
 # The eye's sizes bound the work before any meshing: 20 um everywhere asks for about a billion
 # tets (estimated from the regions' volumes), refused at the mesh_size block.
 scene budget $'model: eye\norder: 2\neye:\n  mesh_size: {optical_zone: 20 um, incision: 20 um, cornea: 20 um, sclera: 20 um}\n'

@@ -80,6 +80,10 @@ static void print_sizes(FILE *f, const run_info *r)
     fprintf(f, "sizes        optical zone %g mm, incision %g mm, cornea %g mm, sclera %g mm\n"
                "             (about %.0f tets estimated before meshing; at most %d)\n", ho,
             eye->h_incision, hc, eye->h_sclera, tets, KT_EYE_MAX_TETS);
+    if (eye->h_floor > 0)
+        fprintf(f, "             incision floor %g mm within %g deg of the meridians %g and %g deg\n",
+                eye->h_floor, eye->floor_sector > 0 && eye->floor_sector < 90 ? eye->floor_sector : 90,
+                eye->floor_centre, fmod(eye->floor_centre + 180, 360));
     if (hc < eye->h_cornea || ho < eye->h_optical)
         fprintf(f, "             (eye.mesh_size asks for optical zone %g mm, cornea %g mm: element order %d "
                    "allows at most %.3g mm, central_thickness/%g)\n", eye->h_optical, eye->h_cornea, r->order,

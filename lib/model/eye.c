@@ -339,20 +339,41 @@ static int matheval(eye_build *b, const char *expr)
     return t;
 }
 
-/* Size fields: h_incision near the rings, h_optical in the central zone, h_cornea elsewhere
- * in cornea and limbus, h_sclera in the sclera; the background size is their minimum. */
+/* Distance (mm) from a point to ring i's floor, the circle the ring's bottom edge sweeps (the
+ * crack front of an incision cut along it), restricted to the arcs within floor_sector of the
+ * meridian floor_centre and its opposite: sqrt(dr^2 + dz^2 + (rho_f * angle beyond the
+ * sector)^2), the angle folded into [0, 90] deg. Written as a gmsh MathEval expression. */
+static int floor_distance(eye_build *b, int i, char *expr, size_t len)
+{
+    const kt_eye *eye = b->eye;
+    double rho = b->top[i][0] + b->depth[i] * b->dir[i][0];
+    double z = b->top[i][1] + b->depth[i] * b->dir[i][1];
+    double sector = eye->floor_sector > 0 && eye->floor_sector < 90 ? eye->floor_sector : 90;
+    double ca = cos(eye->floor_centre * PI / 180), sa = sin(eye->floor_centre * PI / 180);
+    int n = snprintf(expr, len,
+                     "sqrt((sqrt(x*x+y*y)-%.17g)^2 + (z-%.17g)^2 + (%.17g*0.5*("
+                     "acos(Fabs(x*%.17g+y*%.17g)/(sqrt(x*x+y*y)+1e-12))-%.17g + "
+                     "Fabs(acos(Fabs(x*%.17g+y*%.17g)/(sqrt(x*x+y*y)+1e-12))-%.17g)))^2)",
+                     rho, z, rho, ca, sa, sector * PI / 180, ca, sa, sector * PI / 180);
+    return n > 0 && (size_t)n < len ? matheval(b, expr) : (b->ierr = 1, -1);
+}
+
+/* Size fields: h_incision near the rings, h_floor at the rings' floor (within the sector),
+ * h_optical in the central zone, h_cornea elsewhere in cornea and limbus, h_sclera in the
+ * sclera; the background size is their minimum. */
 static int size_fields(eye_build *b, kt_err *e)
 {
     const kt_eye *eye = b->eye;
     const kt_eye_geom *g = &b->g;
-    int fl[3], n = 0;
-    char expr[256];
+    double fl[3 + KT_SCENE_MAX];
+    int n = 0, f;
+    char expr[1024];
     /* Optical zone: radial distance from the axis, switched off below the corneal edge. */
     snprintf(expr, sizeof expr, "sqrt(x*x+y*y) + 100*((%.17g - z) + Fabs(%.17g - z))",
              g->Pp[1], g->Pp[1]);
     double hc = b->h_cornea, hmax = fmax(eye->h_sclera, hc);
-    fl[n] = graded(b, matheval(b, expr), b->h_optical, 0.5 * eye->optical_zone, 2 * hc, hc, hmax);
-    n += fl[n] > 0;
+    if ((f = graded(b, matheval(b, expr), b->h_optical, 0.5 * eye->optical_zone, 2 * hc, hc, hmax)) > 0)
+        fl[n++] = f;
     /* Sclera: polar angle about the globe centre, coarsening beyond the limbus. */
     fl[n++] = threshold(b, matheval(b, "acos(z/sqrt(x*x+y*y+z*z+1e-12))"), hc, eye->h_sclera,
                         g->alphaL, g->alphaL + 3 * eye->h_sclera / g->Rg);
@@ -368,12 +389,18 @@ static int size_fields(eye_build *b, kt_err *e)
         free(tags);
         /* Sample the ring faces (spacing = bounding-box diagonal / N) at about h_incision / 5. */
         fnum(b, d, "NumPointsPerCurve", ceil(3 * 2 * g->rL / eye->h_incision));
-        fl[n] = graded(b, d, eye->h_incision, 0.5 * eye->h_incision, 2 * hc, hc, hmax);
-        n += fl[n] > 0;
+        if ((f = graded(b, d, eye->h_incision, 0.5 * eye->h_incision, 2 * hc, hc, hmax)) > 0)
+            fl[n++] = f;
+    }
+    double hring = fmin(eye->h_incision, hc);
+    for (int i = 0; i < eye->nring && eye->h_floor > 0; i++) {
+        int dist = floor_distance(b, i, expr, sizeof expr);
+        double len = (hring - eye->h_floor) / KT_EYE_FLOOR_GRADING;
+        if (dist > 0 && (f = graded(b, dist, eye->h_floor, 0.5 * eye->h_floor, len, hring, hmax)) > 0)
+            fl[n++] = f;
     }
     int ierr = 0, mn = field(b, "Min");
-    double list[3] = {fl[0], n > 1 ? fl[1] : fl[0], n > 2 ? fl[2] : fl[0]};
-    gmshModelMeshFieldSetNumbers(mn, "FieldsList", list, (size_t)n, &ierr);
+    gmshModelMeshFieldSetNumbers(mn, "FieldsList", fl, (size_t)n, &ierr);
     gm(b, ierr);
     gmshModelMeshFieldSetAsBackgroundMesh(mn, &ierr);
     gm(b, ierr);

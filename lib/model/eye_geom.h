@@ -21,6 +21,11 @@ enum { KT_EYE_REG_CORNEA = 1, KT_EYE_REG_LIMBUS, KT_EYE_REG_SCLERA };
 enum { KT_EYE_SURF_ANTERIOR = 1, KT_EYE_SURF_INNER, KT_EYE_SURF_FIXED, KT_EYE_SURF_OUTER,
        KT_EYE_SURF_RING0 = 10 };
 
+/* Size slope away from an incision ring's floor (size increase per unit distance): at distance
+ * d from the floor the size is h_floor + KT_EYE_FLOOR_GRADING (d - h_floor / 2), up to the
+ * ring's size (eye.c's size field; eye_budget.c's estimate). */
+#define KT_EYE_FLOOR_GRADING 0.5
+
 /* The eye's parameters as the scene gives them (internal units mm, degrees). */
 #define KT_SCENE_MAX 16
 
@@ -48,6 +53,11 @@ typedef struct kt_eye {
     double fibre_density;           /* circumferential fibril density at the limbus relative to
                                        the central cornea (eye.fibres.limbal_density) */
     double h_optical, h_incision, h_cornea, h_sclera; /* element sizes, mm */
+    double h_floor;                 /* size at the rings' floor (the crack front of an incision),
+                                       mm; 0: no floor refinement (eye.mesh_size.incision_floor) */
+    double floor_centre, floor_sector; /* the floor is refined within floor_sector deg of the
+                                       meridian floor_centre and its opposite (the scene's
+                                       ordering.centre/sector); sector 0 or >= 90: all around */
     int nring;
     kt_ring ring[KT_SCENE_MAX];
 } kt_eye;

@@ -488,6 +488,8 @@ static void model_defaults(yaml_node_t *materials, yaml_node_t *loads, yaml_node
     if (isnan(s->ordering_centre) && eye) s->ordering_centre = s->eye.steep_axis;
     /* 50 deg: a pair of arcs of up to 90 deg about the centre, with 5 deg to spare each side. */
     if (isnan(s->ordering_sector) && eye) s->ordering_sector = 50;
+    /* The incision floor is refined where the arcs are cut: the ordering's sector. */
+    if (eye) s->eye.floor_centre = s->ordering_centre, s->eye.floor_sector = s->ordering_sector;
     /* One layer: the nodes whose stiffness columns change when the set is cut; the eye takes a
      * second, the rows of those columns, so augsolve's closure solves stay inside the set
      * (measured on plans/eye.yaml: closures of 12-14k DOFs with one layer, 5k with two). */
@@ -542,7 +544,7 @@ static int parse_scene(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
     if (kt_yml_key_choice(y, root, "", "model", MODELS, &model, e)) return e->code;
     s->model = model + 1;
     if (kt_yml_key_int(y, root, "", "order", 1, 2, &s->order, e)) return e->code;
-    if (parse_model(y, root, s, e) || check_budget(y, root, s, e)) return e->code;
+    if (parse_model(y, root, s, e)) return e->code;
     if ((v = kt_yml_get(y, root, "ordering")) && parse_ordering(y, v, s, e)) return e->code;
     yaml_node_t *mats = kt_yml_get(y, root, "materials"), *loads = kt_yml_get(y, root, "loads"),
                 *fix = kt_yml_get(y, root, "fixation");
@@ -551,6 +553,8 @@ static int parse_scene(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
     if (loads && parse_loads(y, loads, s, e)) return e->code;
     if (fix && parse_fixation(y, fix, s, e)) return e->code;
     model_defaults(mats, loads, fix, s);
+    /* After the defaults: the floor refinement's sector is the ordering's. */
+    if (check_budget(y, root, s, e)) return e->code;
     return check_names(y, root, s, e);
 }
 

@@ -1,7 +1,8 @@
 /* test_eye.c: the parametric eye meshed with gmsh: groups, conforming incision rings (P1 and
  * P2), the exact toric anterior surface and its meridian curvatures, corneal thickness, valid
  * (also curved P2) elements, two elements through the cornea, meshes/eye.geo consistency and
- * rejection of inconsistent rings. */
+ * rejection of inconsistent rings, and the refinement of a ring's floor
+ * (eye.mesh_size.incision_floor). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -667,6 +668,111 @@ static void check_rejects(void)
           e.msg);
 }
 
+/* Angle (deg, folded into [0, 90]) between the direction of (x, y) and the meridian c. */
+static double meridian_angle(double x, double y, double c)
+{
+    double d = fmod(fabs(atan2(y, x) / DEG - c), 180.0);
+    return d > 90 ? 180 - d : d;
+}
+
+static int cmp_ll(const void *a, const void *b)
+{
+    long long x = *(const long long *)a, y = *(const long long *)b;
+    return (x > y) - (x < y);
+}
+
+/* Lengths along ring 1's floor (tag 11): its triangles' boundary edges that touch no anterior
+ * node. in_sector: mean length of the floor edges within `inside` deg of the floor's meridians
+ * (and count), out_sector: mean of those beyond `outside` deg. near: mean length of the tet
+ * edges that touch a floor node within `inside` deg. */
+typedef struct floor_sizes { double in_sector, out_sector, near; int n_in, n_out, n_near; } floor_sizes;
+
+static floor_sizes floor_edge_sizes(const kt_mesh *m, double centre, double inside, double outside)
+{
+    int fv = kt_tri_nv(m->order), tv = kt_tet_nv(m->order), ne = 0;
+    floor_sizes r = {0};
+    long long *key = malloc(sizeof *key * 3 * (size_t)m->nf);
+    char *anterior = calloc((size_t)m->nn, 1), *floor = calloc((size_t)m->nn, 1);
+    for (int i = 0; i < m->nf; i++) {
+        const int *f = m->tri + (size_t)i * fv;
+        for (int s = 0; s < 3; s++) {
+            if (m->tri_tag[i] == 1) anterior[f[s]] = 1;
+            int a = f[TRI_EDGE[s][0]], b = f[TRI_EDGE[s][1]];
+            if (m->tri_tag[i] == 11)
+                key[ne++] = ((long long)(a < b ? a : b) << 32) | (a < b ? b : a);
+        }
+    }
+    qsort(key, (size_t)ne, sizeof *key, cmp_ll);
+    for (int i = 0; i < ne; i++) {
+        if ((i > 0 && key[i - 1] == key[i]) || (i + 1 < ne && key[i + 1] == key[i])) continue;
+        int a = (int)(key[i] >> 32), b = (int)(key[i] & 0xffffffff);
+        if (anterior[a] || anterior[b]) continue;
+        const double *p = m->xyz + 3 * (size_t)a, *q = m->xyz + 3 * (size_t)b;
+        double len = sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                          (p[2] - q[2]) * (p[2] - q[2]));
+        double ang = meridian_angle(0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), centre);
+        if (ang <= inside) r.in_sector += len, r.n_in++, floor[a] = floor[b] = 1;
+        if (ang >= outside) r.out_sector += len, r.n_out++;
+    }
+    for (int t = 0; t < m->ne; t++)
+        for (int j = 0; j < 6; j++) {
+            int a = m->tet[(size_t)t * tv + TET_EDGE[j][0]], b = m->tet[(size_t)t * tv + TET_EDGE[j][1]];
+            if (!floor[a] && !floor[b]) continue;
+            const double *p = m->xyz + 3 * (size_t)a, *q = m->xyz + 3 * (size_t)b;
+            r.near += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                           (p[2] - q[2]) * (p[2] - q[2]));
+            r.n_near++;
+        }
+    r.in_sector /= r.n_in > 0 ? r.n_in : 1;
+    r.out_sector /= r.n_out > 0 ? r.n_out : 1;
+    r.near /= r.n_near > 0 ? r.n_near : 1;
+    free(key);
+    free(anterior);
+    free(floor);
+    return r;
+}
+
+/* eye.mesh_size.incision_floor: the floor of ring 1 is meshed at about h_floor inside the
+ * sector (along the floor and in the tets around it), at the ring's size outside it, and the
+ * node count grows like a graded refinement of a curve (not of the ring's whole surface). */
+static void check_floor(void)
+{
+    kt_eye eye;
+    coarse_eye(&eye);
+    eye.nring = 1;
+    kt_mesh plain, fine;
+    kt_err e = {0};
+    int rc = kt_eye_mesh(&eye, 1, 1, &plain, &e);
+    CHECK(rc == KT_OK, "eye without floor refinement meshed: %s", e.msg);
+    if (rc) return;
+    eye.h_floor = 0.06;
+    eye.floor_centre = eye.steep_axis;
+    eye.floor_sector = 40;
+    rc = kt_eye_mesh(&eye, 1, 1, &fine, &e);
+    CHECK(rc == KT_OK, "eye with floor refinement meshed: %s", e.msg);
+    if (rc) {
+        kt_mesh_free(&plain);
+        return;
+    }
+    floor_sizes a = floor_edge_sizes(&plain, eye.floor_centre, 35, 60);
+    floor_sizes b = floor_edge_sizes(&fine, eye.floor_centre, 35, 60);
+    printf("floor: %d -> %d nodes; floor edges in the sector %.3f -> %.3f mm (%d -> %d), "
+           "outside %.3f -> %.3f mm; tet edges at the floor %.3f -> %.3f mm (requested %.3f)\n",
+           plain.nn, fine.nn, a.in_sector, b.in_sector, a.n_in, b.n_in, a.out_sector,
+           b.out_sector, a.near, b.near, eye.h_floor);
+    CHECK(b.n_in > 0 && b.in_sector <= 1.5 * eye.h_floor, "floor edges in the sector %.3f mm",
+          b.in_sector);
+    /* The tets at the floor reach out into the graded zone (size + 0.5 per unit distance). */
+    CHECK(b.near <= 2 * eye.h_floor, "tet edges at the floor %.3f mm", b.near);
+    CHECK(a.in_sector > 2.5 * eye.h_floor, "without the field the floor is coarse: %.3f mm",
+          a.in_sector);
+    CHECK(b.out_sector > 2.5 * eye.h_floor, "outside the sector the floor is coarse: %.3f mm",
+          b.out_sector);
+    CHECK(fine.nn > plain.nn && fine.nn < 1.5 * plain.nn, "node count %d -> %d", plain.nn, fine.nn);
+    kt_mesh_free(&plain);
+    kt_mesh_free(&fine);
+}
+
 /* The geometry functions against closed forms: apex, meridian circles, thickness. */
 static void check_geometry(const kt_eye *eye)
 {
@@ -698,5 +804,6 @@ int main(void)
     check_p1(&eye);
     check_p2(&eye);
     check_whole_globe();
+    check_floor();
     return kt_test_done("test_eye");
 }

@@ -88,6 +88,8 @@ static void test_eye_plan(void)
     CHECK_NEAR(s.mat[0].Gt, 0.047, 1e-15, "cornea G_transverse 47 kPa in MPa");
     CHECK_NEAR(s.eye.fibre_band, 1.5, 0, "limbal band, mm");
     CHECK_NEAR(s.eye.fibre_density, 1.91, 0, "limbal density");
+    CHECK_NEAR(s.eye.h_floor, 0.042, 1e-15, "incision floor 42 um in mm");
+    CHECK_NEAR(s.eye.floor_sector, 50, 0, "floor refined in the ordering's sector");
     CHECK(s.reference == KT_REFERENCE_PRESTRESSED, "reference %d", s.reference);
     CHECK(s.nfix == 1 && s.fix[0].mask == 7 && strcmp(s.fix[0].surface, "fixed") == 0, "fixation");
 }
@@ -187,6 +189,29 @@ static void test_bad_scenes(void)
     reject("halo", "ordering: {halo: 4}\n", 1, 18, "ordering.halo: expected an integer in [0, 3]");
     reject("below-eye", "fixation:\n  - below: {axis: y, value: 0 mm}\n", 2, 12, "expected only on box");
     reject("extent", "eye:\n  extent: 20 deg\n", 2, 11, "eye.extent: expected more than the polar angle");
+    reject("floor-bound", "eye:\n  mesh_size: {incision_floor: 4 um}\n", 2, 31,
+           "eye.mesh_size.incision_floor: expected a length in [0.005, 1] mm");
+    reject("floor-coarse", "eye:\n  mesh_size: {incision: 0.1 mm, incision_floor: 0.15 mm}\n", 2, 49,
+           "eye.mesh_size.incision_floor: expected at most mesh_size.incision (0.1 mm)");
+}
+
+/* eye.mesh_size.incision_floor in mm; the floor is refined in the ordering's sector. */
+static void test_floor(void)
+{
+    char path[128];
+    snprintf(path, sizeof path, "%s/floor.yaml", dir);
+    write_file(path, "eye:\n  mesh_size: {incision: 0.2 mm, incision_floor: 30 um}\n"
+                     "ordering: {centre: 20 deg, sector: 40 deg}\n");
+    kt_scene s;
+    kt_err e = {0};
+    CHECK(kt_scene_load(path, &s, &e) == 0, "%s", e.msg);
+    if (e.code) return;
+    CHECK_NEAR(s.eye.h_floor, 0.03, 1e-15, "30 um in mm");
+    CHECK_NEAR(s.eye.floor_centre, 20, 0, "floor centre = ordering.centre");
+    CHECK_NEAR(s.eye.floor_sector, 40, 0, "floor sector = ordering.sector");
+    write_file(path, "eye:\n  mesh_size: {incision: 0.2 mm}\n");
+    CHECK(kt_scene_load(path, &s, &e) == 0, "%s", e.msg);
+    CHECK(s.eye.h_floor == 0, "built-in: no floor refinement (%g mm)", s.eye.h_floor);
 }
 
 /* Materials by region tag and Dirichlet data on the box's groups. */
@@ -240,6 +265,7 @@ int main(void)
     test_eye_plan();
     test_beam_plans();
     test_bad_scenes();
+    test_floor();
     test_on_mesh();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
