@@ -24,12 +24,17 @@ static const char *USAGE =
     "                        (one step of iterative refinement first; default 1e-10); CG: the\n"
     "                        relative residual of K u = f to stop at\n"
     "  --maxit N             CG iteration cap (default 20000)\n"
-    "  --ordering O          natural, amd, metis (default metis for planned, where it orders\n"
-    "                        the intact block, natural (the mesh's order) for the others)\n"
+    "  --ordering O          natural, amd, metis (default metis for planned and augmented,\n"
+    "                        where it orders the intact block; natural (the mesh's order) for\n"
+    "                        the others)\n"
     "  --factor F            supernodal (default) or simplicial (planned, refactor; the\n"
     "                        augmented method's factor is supernodal)\n"
     "  --output all|SET      displacements everywhere (default) or only on the nodes of the\n"
     "                        named surface (NaN elsewhere; planned: restricted back substitution)\n"
+    "  --plan-max-ratio R    planned: fall back to refactor with METIS when its factor's\n"
+    "                        predicted nonzeros exceed R times METIS's on the intact block\n"
+    "                        (default 4; 0: never) or its flops those of a fresh\n"
+    "                        factorization at every step\n"
     "  --verify              also factor K from scratch each step and compare\n"
     "  --verify-tol T        largest accepted relative difference (default 1e-8)\n"
     "  --no-vtk              write no step VTKs (benchmarks)\n"
@@ -51,7 +56,8 @@ static int usage_error(const char *msg, const char *arg)
 }
 
 enum { O_SCENE = 256, O_METHOD, O_TOL, O_RESTART, O_MAXIT, O_PRECOND, O_ORDERING, O_FACTOR,
-       O_REFACTOR, O_SYNC, O_OUTPUT, O_VERIFY, O_VTOL, O_NOVTK, O_BINARY, O_STEPS };
+       O_REFACTOR, O_SYNC, O_OUTPUT, O_VERIFY, O_VTOL, O_NOVTK, O_BINARY, O_STEPS,
+       O_MAXRATIO };
 
 /* One option; returns 0, or the exit code of a usage error. */
 static int option(int c, const char *arg, kt_aug_run_opts *o)
@@ -90,6 +96,9 @@ static int option(int c, const char *arg, kt_aug_run_opts *o)
     case O_NOVTK: o->vtk = 0; return 0;
     case O_BINARY: o->binary = 1; return 0;
     case O_STEPS: o->steps = arg; return 0;
+    case O_MAXRATIO:
+        return kt_parse_double(arg, &o->plan_max_ratio) || !(o->plan_max_ratio >= 0)
+                   ? usage_error("--plan-max-ratio expects a number >= 0", arg) : 0;
     }
     return usage_error("unknown or incomplete option", arg);
 }
@@ -107,6 +116,7 @@ int main(int argc, char **argv)
         {"verify", no_argument, NULL, O_VERIFY}, {"verify-tol", required_argument, NULL, O_VTOL},
         {"no-vtk", no_argument, NULL, O_NOVTK}, {"binary", no_argument, NULL, O_BINARY},
         {"steps", required_argument, NULL, O_STEPS},
+        {"plan-max-ratio", required_argument, NULL, O_MAXRATIO},
         {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
     kt_aug_run_opts o;

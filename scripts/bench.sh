@@ -13,6 +13,9 @@
 #              and resolution against time and the dioptre error; Pareto plot
 #   stability  Poisson ratio to 0.4999, long beams, stiffness contrast to 1e6, slivers, 95%
 #              incisions, >= 5,000 duplicated nodes: accurate (verified) or loud?
+#   planned    issue 11: the planned method against refactor with METIS, refactor in
+#              mesh-prep's order and Jacobi-PCG on the beam 5x5x1024 cut, the eye LRI plan and
+#              the bunny cut; the table per case comes from bench_table (lib/io/benchtab.c)
 # Results (TSV, SVG, PNG, logs) go to RESULTS (default results/, git-ignored); every run is
 # recorded in RESULTS/ledger.tsv (command, exit status, seconds), its stdout/stderr in logs/.
 # Every run is bounded by timeout(1) and the baselines by a wall budget, so the suite cannot
@@ -30,7 +33,7 @@ set -uo pipefail
 shopt -s nullglob
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-PARTS_ALL="bandwidth paper ordering tradeoff stability"
+PARTS_ALL="bandwidth paper ordering tradeoff stability planned"
 
 usage() {
     awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "${BASH_SOURCE[0]}"
@@ -71,7 +74,7 @@ mkdir -p "$R" && R=$(cd "$R" && pwd)
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 export LC_ALL=C
 
-for t in mesh-prep cutplan augsolve curvature bench_stream bench_cond bench_solves bench_steps; do
+for t in mesh-prep cutplan augsolve curvature bench_stream bench_cond bench_solves bench_steps bench_table; do
     [ -x "$B/$t" ] || { echo "bench: $B/$t is not built (cmake --build $B)" >&2; exit 2; }
 done
 command -v gnuplot >/dev/null || echo "bench: gnuplot not found: tables only, no plots" >&2
@@ -981,6 +984,71 @@ part_stability() {
     column -t -s $'\t' "$ST" >&2
 }
 
+# ================================================================== part: planned
+# Issue 11: per case, the planned method (augsolve's default) and what a user would run instead,
+# each over the whole plan in its own run: planned (peak memory, whole plan), refactor with
+# METIS (the reference), refactor in mesh-prep's order, Jacobi-PCG (bench_steps, wall budget);
+# then planned --verify (a fresh METIS factorization after each step in the same process: the
+# ratio under the same load, and the accuracy; --verify-tol 1e-10, 1e-6 on the beam, where two
+# fresh direct factorizations already differ by ~4e-6: condition ~3e12) and, where the case has an
+# output surface, planned --output SET --verify. bench_table (lib/io/benchtab.c, unit-tested)
+# writes planned/CASE.md from the step tables and time records; the load average before and
+# after each case goes beside it. --cases REGEX selects cases (beam-5x5x1024, eye, bunny),
+# --methods the labels planned, refactor+metis, refactor, pcg-jacobi, planned-verify,
+# planned-output.
+planned_case() { # CASE MESH EDITS SET VERIFY_TOL
+    local c=$1 msh=$2 ed=$3 set=$4 vtol=$5 D=$R/planned lab name args tables=()
+    [ -s "$ed" ] || { log "  $c: no edits ($ed)"; return 1; }
+    if [ -n "$CASES" ] && ! [[ $c =~ $CASES ]]; then return 0; fi
+    printf '%s\tbefore\t%s\n' "$c" "$(cut -d' ' -f1-3 /proc/loadavg)" >>"$D/load.tsv"
+    for lab in planned refactor+metis refactor pcg-jacobi planned-verify planned-output; do
+        if [ -n "$METHODS" ] && [[ $METHODS != *" $lab "* ]]; then continue; fi
+        name=planned-$c-${lab//+/-}
+        args=()
+        case $lab in
+            planned) ;;
+            refactor+metis) args=(--method refactor --ordering metis) ;;
+            refactor) args=(--method refactor) ;;
+            planned-verify) args=(--verify --verify-tol "$vtol") ;;
+            planned-output) [ "$set" = - ] && continue; args=(--output "$set" --verify --verify-tol "$vtol") ;;
+        esac
+        log "  $c: $lab"
+        if [ $lab = pcg-jacobi ]; then
+            run "$name" "$T_RUN" "$B/bench_steps" "$msh" "$ed" --method pcg-jacobi --keep-going \
+                --budget "$BUDGET_CG"
+            [ -s "$LOGS/$name.out" ] && tables+=("$lab=$LOGS/$name.out,$LOGS/$name.time")
+            continue
+        fi
+        rm -rf "${RUNS:?}/$name"
+        run "$name" "$T_RUN" "$B/augsolve" "$msh" "$ed" -o "$RUNS/$name" --no-vtk -q "${args[@]}" &&
+            tables+=("$lab=$RUNS/$name/steps.tsv,$LOGS/$name.time")
+    done
+    printf '%s\tafter\t%s\n' "$c" "$(cut -d' ' -f1-3 /proc/loadavg)" >>"$D/load.tsv"
+    local bw=()
+    [ -n "${BW:-}" ] && bw=(--bandwidth "$BW")
+    "$B/bench_table" --title "### $c (load average $(awk -F'\t' -v c="$c" '$1 == c { printf "%s%s", s, $3; s = " -> " }' "$D/load.tsv"))" \
+        "${bw[@]}" "${tables[@]}" >"$D/$c.md" && cat "$D/$c.md" >&2
+}
+
+part_planned() {
+    local D=$R/planned
+    mkdir -p "$D"
+    : >"$D/load.tsv"
+    run stream-planned 600 "$B/bench_stream" --mb 256 --trials 5 --threads 1 &&
+        BW=$(awk -F'\t' 'NR == 2 { print $5 }' "$LOGS/stream-planned.out")
+    log "  STREAM triad: ${BW:-?} GB/s (1 thread)"
+    prep_box beam $HEAD_BEAM &&
+        planned_case beam-5x5x$HEAD_BEAM "$MESHES/beam-$HEAD_BEAM.msh" "$EDITS/cut-beam-$HEAD_BEAM.edits" zmax 1e-6
+    [ $WITH_EYE = 1 ] && prep_eye && planned_case eye "$MESHES/eye.msh" "$EDITS/lri-eye.edits" anterior 1e-10
+    [ $WITH_BUNNY = 1 ] && prep_bunny &&
+        planned_case bunny "$MESHES/bunny-snapped.msh" "$EDITS/cut-bunny.edits" - 1e-10
+    local f
+    : >"$D/planned.md"
+    for f in beam-5x5x$HEAD_BEAM eye bunny; do
+        [ -s "$D/$f.md" ] && { cat "$D/$f.md"; echo; } >>"$D/planned.md"
+    done
+}
+
 # ================================================================== report
 # results/report.md: every table of this results folder as Markdown, with the machine.
 md_table() { # TSV [title]
@@ -1014,6 +1082,10 @@ write_report() {
         md_table "$R/tradeoff/tradeoff.tsv" "Settings"
         printf '\n## Stability\n'
         md_table "$R/stability/stability.tsv" "Extremes"
+        if [ -s "$R/planned/planned.md" ]; then
+            printf '\n## The planned method (issue 11)\n\n'
+            cat "$R/planned/planned.md"
+        fi
         printf '\n## Runs that failed or timed out\n\n'
         awk -F'\t' 'NR > 1 && $3 != 0 { printf "- %s: exit %s after %s s\n", $2, $3, $4 }' "$R/ledger.tsv"
     } >"$f"

@@ -99,6 +99,19 @@ check "planned: fix edit falls back to augmented" 0 "e13:[0-9]*: step $((steps +
 grep -q '^method: augmented' "$T/r13/run.yaml" && grep -q '^fallback: ' "$T/r13/run.yaml" ||
     { echo "FAIL fallback not recorded in run.yaml"; fail=1; }
 
+# A planned factor predicted larger than --plan-max-ratio times METIS's on the intact block
+# (every plan exceeds ratio 1: its increments add to the intact block's factor) is not
+# factored: the run falls back loudly to refactor with METIS, verified, recorded in run.yaml.
+check "planned: size check falls back to refactor" 0 "beyond --plan-max-ratio 1.*falling back to --method refactor --ordering metis" "$T/r15" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r15" --plan-max-ratio 1 --verify --no-vtk -q
+grep -q '^method: refactor' "$T/r15/run.yaml" && grep -q '^ordering: metis' "$T/r15/run.yaml" &&
+    grep -q '^fallback: .*plan-max-ratio' "$T/r15/run.yaml" ||
+    { echo "FAIL size fallback not recorded in run.yaml"; fail=1; }
+[ "$(wc -l <"$T/r15/steps.tsv")" -eq $((steps + 2)) ] || { echo "FAIL size fallback: not every step"; fail=1; }
+check "planned: default ratio keeps the planned method" 0 "" "$T/r16" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r16" --no-vtk -q
+grep -q '^method: planned' "$T/r16/run.yaml" && ! grep -q '^fallback' "$T/r16/run.yaml" ||
+    { echo "FAIL default ratio: the planned method fell back"; fail=1; }
+check "bad --plan-max-ratio" 2 "plan-max-ratio expects" "$T/r17" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r17" --plan-max-ratio -1
+
 # --steps: only the listed steps are written, each as in the full run (one factorization).
 check "planned: --steps" 0 "" "$T/r14" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r14" --steps 2,4-5 -q
 [ "$(cut -f1 "$T/r14/steps.tsv" | tr '\n' ' ')" = "step 0 2 4 5 " ] || { echo "FAIL --steps rows: $(cut -f1 "$T/r14/steps.tsv" | tr '\n' ' ')"; fail=1; }

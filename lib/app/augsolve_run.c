@@ -42,6 +42,9 @@ typedef struct run {
     unsigned char *outmask;     /* nodes of the --output surface (planned), NULL: all */
     double *ufresh;
     const char *fallback;       /* why the planned method did not apply */
+    int fallback_method;        /* and what runs instead */
+    char why[256];              /* the fallback's reason when the factor was refused */
+    double t_setup;             /* ms: the planned method's assembly, ordering, factorization */
     kt_out tsv;
     int tsv_open;
     char scene_path[PATH_MAX];
@@ -288,6 +291,7 @@ void kt_aug_run_opts_default(kt_aug_run_opts *o)
     kt_aug_opts_default(&o->aug);
     o->aug.method = KT_AUG_PLANNED;
     o->aug.ordering = KT_AUG_ORDER_DEFAULT;
+    o->plan_max_ratio = KT_PLAN_MAX_RATIO;
 }
 
 /* "1,4,7-9" -> want[k] for k in 1..nsteps; step 0 is always written. */
@@ -394,6 +398,10 @@ static int verify_planned(run *r, const kt_aug_run_opts *o, kt_err *e)
 static int planned_step(run *r, const kt_aug_run_opts *o, kt_err *e)
 {
     if (kt_plan_solve(&r->S, &r->plan, &r->F, &r->prob, o->aug.tol, e)) return e->code;
+    if (r->S.step == 0) { /* step 0's row holds the factorization, as the other methods' */
+        r->S.row.t_update += r->t_setup;
+        r->S.row.t_total += r->t_setup;
+    }
     if (o->aug.output[0]) {
         if (output_nodes(r, o->aug.output, e)) return e->code;
         for (int i = 0; i < 3 * r->S.mesh.nn; i++)
@@ -439,24 +447,39 @@ static int run_planned(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
         return e->code;
     if (!r->plan.usable) {
         r->fallback = r->plan.why;
+        r->fallback_method = KT_AUG_AUGMENTED;
         return KT_OK;
     }
-    if (kt_plan_factor_build(&r->F, &r->plan, &r->final, &r->fem.mats, o->aug.ordering, o->aug.factor,
-                             e) ||
-        kt_plan_state_init(&r->S, &r->plan, &r->prob, e) || restrict_output(r, o, e))
+    if (kt_plan_factor_build(&r->F, &r->plan, &r->final, &r->fem.mats, o->aug.ordering,
+                             o->aug.factor, o->plan_max_ratio, e))
+        return e->code;
+    if (r->F.refused) { /* a fresh METIS factorization per step is cheaper and as exact */
+        snprintf(r->why, sizeof r->why, "%s", r->F.why);
+        r->fallback = r->why;
+        r->fallback_method = KT_AUG_REFACTOR;
+        kt_plan_factor_free(&r->F);
+        kt_mesh_free(&r->final);
+        return KT_OK;
+    }
+    r->t_setup = 1e3 * (r->F.t_assemble + r->F.t_order + r->F.t_factor);
+    if (kt_plan_state_init(&r->S, &r->plan, &r->prob, e) || restrict_output(r, o, e))
         return e->code;
     kt_mesh_free(&r->final);
     if (o->aug.verify && !(r->ufresh = kt_calloc(3 * (size_t)r->plan.nn, sizeof(double), e)))
         return e->code;
     kt_log(o->aug.quiet, "augsolve: planned: %d steps, %d free DOFs + %d increments, factor %.0f "
-           "nonzeros in %.2f s (assembly %.2f s, ordering %.2f s)\n", r->plan.nsteps, r->F.nK,
-           r->F.nfree - r->F.nK, r->F.nnzL, r->F.t_factor, r->F.t_assemble, r->F.t_order);
+           "nonzeros (%.3gx METIS on the intact block; flops %.3gx) in %.2f s (assembly %.2f s, "
+           "ordering %.2f s)\n", r->plan.nsteps, r->F.nK, r->F.nfree - r->F.nK, r->F.nnzL,
+           r->F.lnz_plan / r->F.lnz_ref, r->F.fl_plan / r->F.fl_ref, r->F.t_factor,
+           r->F.t_assemble, r->F.t_order);
     if (planned_step(r, o, e)) return e->code;
     for (int k = 1; k <= r->plan.nsteps; k++) {
         if (kt_plan_advance(&r->S, &r->plan, e)) return e->code;
         (*steps)++;
         if (r->want[k] && planned_step(r, o, e)) return e->code;
     }
+    kt_log(o->aug.quiet, "augsolve: planned: %d forward substitutions took the increments-only "
+           "path\n", r->F.nshort);
     return KT_OK;
 }
 
@@ -477,10 +500,12 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     if (o.aug.method == KT_AUG_PLANNED) {
         if (run_planned(r, &o, &steps, e)) goto done;
         if (r->fallback) {
+            int ref = r->fallback_method == KT_AUG_REFACTOR;
             fprintf(stderr, "augsolve: the planned method does not apply (%s): falling back to "
-                    "--method augmented\n", r->fallback);
-            o.aug.method = KT_AUG_AUGMENTED;
-            o.aug.factor = KT_AUG_FACTOR_SUPERNODAL; /* its W is kept by supernode */
+                    "--method %s\n", r->fallback, ref ? "refactor --ordering metis" : "augmented");
+            o.aug.method = r->fallback_method;
+            if (ref) o.aug.ordering = KT_AUG_ORDER_METIS;
+            else o.aug.factor = KT_AUG_FACTOR_SUPERNODAL; /* its W is kept by supernode */
         }
     } else if (o.steps) {
         if (kt_plan_read(&r->plan, &r->rd, e) || parse_steps(r, o.steps, r->plan.nsteps, e))

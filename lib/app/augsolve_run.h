@@ -10,6 +10,8 @@ typedef struct kt_aug_run_opts {
     const char *scene;        /* NULL: the scene the edits header names */
     int vtk, binary;          /* write step VTKs (binary legacy format) */
     const char *steps;        /* NULL: write every step; else a list "1,4,7-9" (step 0 always) */
+    double plan_max_ratio;    /* planned: refactor with METIS beyond this factor-size ratio
+                                 (kt_plan_factor_build; default KT_PLAN_MAX_RATIO, 0: never) */
     kt_aug_opts aug;
 } kt_aug_run_opts;
 

@@ -58,23 +58,43 @@ typedef struct kt_plan_factor {
     int nfree, nK;              /* free variables; the first nK are intact DOFs */
     int *pos;                   /* nvar: position among the free variables, -1: constrained */
     int *nfree_at;              /* nsteps+1: free variables present after step k */
+    double *fro_at;             /* nsteps+1: ||A_k||_F, the leading block of step k */
     cholmod_sparse *A;          /* A_FF: the free block, lower triangle, in free positions */
     cholmod_factor *L;          /* L L^T = P A_FF P^T, P = L->Perm */
     cholmod_dense *w[2], *Y, *E;/* solve workspaces */
     int *Tp, *Ti;               /* the trailing block L22 (columns and rows >= nK, shifted by */
     double *Tx;                 /* nK), CSC, diagonal first: the increments' forward solve */
     double *y0, *bK0;           /* L^-1 P [bK0; 0] and the intact rows bK0 it was made from */
+    int nshort;                 /* forward solves that took the increments-only path */
     unsigned char *want;        /* NULL, or the supernodes a restricted back substitution needs */
     int want_cols;              /* their columns */
+    double *rwork;              /* a supernode's rows: the restricted substitution's workspace */
     int nlift;                  /* A(i, j) with i or j constrained, both orientations: */
     int *lrow, *lcol;           /* variables */
     double *lval;
     double t_assemble, t_order, t_factor, nnzL;
+    double lnz_ref, fl_ref;     /* predicted nonzeros and flops of METIS on the intact block */
+    double lnz_plan, fl_plan;   /* predicted for the planned order */
+    int refused;                /* 1: the planned factor is too large (why), not factored */
+    char why[256];
 } kt_plan_factor;
 
-/* Assemble A on the final mesh, order (ordering: KT_AUG_ORDER_* for K's block) and factor. */
+/* Default of max_ratio (augsolve --plan-max-ratio): the planned factor may hold this many
+ * times the nonzeros of METIS's factor of the intact block. The factor is most of a run's
+ * peak memory and the issue's memory budget is 2x a METIS refactor run; the eye's plan predicts
+ * 1.29x (flops 2.2x), the 5,000-node split of the 5x5x1024 beam far more (a dense Schur block
+ * on its 15,000 increments; tests/bench/README.md). */
+#define KT_PLAN_MAX_RATIO 4.0
+
+/* Assemble A on the final mesh, order (ordering: KT_AUG_ORDER_* for K's block) and factor.
+ * After the analysis, when the planned order's predicted factor holds more than max_ratio
+ * times the nonzeros of the intact block's fill-reducing order (a lower bound of a fresh
+ * factorization of any step, up to its new DOFs), or needs more flops than nsteps + 1 fresh
+ * factorizations of it (max_ratio <= 0, or the natural order: no check), nothing is factored:
+ * F->refused = 1 and F->why says so (the caller falls back). */
 int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
-                         const kt_materials *mats, int ordering, int factor, kt_err *e);
+                         const kt_materials *mats, int ordering, int factor, double max_ratio,
+                         kt_err *e);
 void kt_plan_factor_free(kt_plan_factor *F);
 
 /* Restricted output (aug_plan_out.c): from now on the back substitution computes only what
@@ -96,6 +116,11 @@ typedef struct kt_plan_state {
     double *u;                  /* 3 nn: displacement of the cut mesh, mm */
     double *react;              /* 3 nn: K u - f at constrained DOFs, else 0 */
     double *tf;                 /* 3 nn: T^T f, the loads each variable sums */
+    int npown, *pown;           /* tets with 3 corners on a pressure surface (tet numbers) */
+    kt_mesh pview;              /* the cut mesh restricted to them: what the pressures read */
+    double *fe_rel;             /* ne x 3 nv: each tet's prestress internal forces, computed
+                                   once (a cut moves a tet to other nodes, never changes its
+                                   geometry or prestress); NULL without prestress */
     double *b, *x, *r, *ax;     /* right-hand side, solution, residual, scratch (free positions) */
     double t_edits;             /* s to apply the last step's edits */
     kt_aug_row row;

@@ -4,6 +4,7 @@
  * factored once. */
 #include "aug_plan.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,6 +23,7 @@ void kt_plan_factor_free(kt_plan_factor *F)
     }
     free(F->pos);
     free(F->nfree_at);
+    free(F->fro_at);
     free(F->lrow);
     free(F->lcol);
     free(F->lval);
@@ -31,6 +33,7 @@ void kt_plan_factor_free(kt_plan_factor *F)
     free(F->y0);
     free(F->bK0);
     free(F->want);
+    free(F->rwork);
     memset(F, 0, sizeof *F);
 }
 
@@ -157,6 +160,26 @@ static int assemble(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
     return e->code;
 }
 
+/* ||A_k||_F for every step: each stored entry (i, j), i >= j, belongs to the leading blocks
+ * from the step that releases position i on; twice for off-diagonal entries. */
+static int frobenius(kt_plan_factor *F, int nsteps, kt_err *e)
+{
+    if (!(F->fro_at = kt_calloc((size_t)nsteps + 1, sizeof(double), e))) return e->code;
+    const int *Ap = F->A->p, *Ai = F->A->i;
+    const double *Ax = F->A->x;
+    int k = 0;
+    for (int j = 0; j < F->nfree; j++)
+        for (int q = Ap[j]; q < Ap[j + 1]; q++) {
+            int i = Ai[q];
+            while (k > 0 && F->nfree_at[k - 1] > i) k--;
+            while (F->nfree_at[k] <= i) k++;
+            F->fro_at[k] += (i == j ? 1 : 2) * Ax[q] * Ax[q];
+        }
+    for (k = 1; k <= nsteps; k++) F->fro_at[k] += F->fro_at[k - 1];
+    for (k = 0; k <= nsteps; k++) F->fro_at[k] = sqrt(F->fro_at[k]);
+    return KT_OK;
+}
+
 /* The leading nK x nK block of A (the intact stiffness on its free DOFs). */
 static cholmod_sparse *intact_block(kt_plan_factor *F)
 {
@@ -189,6 +212,8 @@ static int *order(kt_plan_factor *F, int ordering, kt_err *e)
     F->c.postorder = 1;
     F->c.supernodal = CHOLMOD_SIMPLICIAL;
     cholmod_factor *Lb = B ? cholmod_analyze(B, &F->c) : NULL;
+    F->lnz_ref = F->c.lnz;
+    F->fl_ref = F->c.fl;
     if (Lb) memcpy(P, Lb->Perm, sizeof(int) * (size_t)F->nK);
     else kt_fail(e, KT_ERUN, "CHOLMOD analysis of the intact block failed (status %d)", F->c.status);
     cholmod_free_factor(&Lb, &F->c);
@@ -200,7 +225,26 @@ static int *order(kt_plan_factor *F, int ordering, kt_err *e)
     return P;
 }
 
-static int factorize(kt_plan_factor *F, const int *P, int factor, kt_err *e)
+/* The analysis's prediction against the intact block's METIS analysis: refuse when the factor
+ * would hold more than max_ratio times its nonzeros (memory: the factor is most of a run's
+ * peak), or take more flops than a fresh factorization at every step would (nsteps + 1 times
+ * the intact block's: the plan would then cost more than refactoring). */
+static void size_check(kt_plan_factor *F, double max_ratio, int nsteps)
+{
+    F->lnz_plan = F->c.lnz;
+    F->fl_plan = F->c.fl;
+    if (!(max_ratio > 0) || !(F->lnz_ref > 0) || !(F->fl_ref > 0)) return;
+    double rl = F->lnz_plan / F->lnz_ref, rf = F->fl_plan / F->fl_ref;
+    if (rl <= max_ratio && rf <= nsteps + 1) return;
+    F->refused = 1;
+    snprintf(F->why, sizeof F->why, "its factor would hold %.3g nonzeros and take %.3g flops: "
+             "%.3gx and %.3gx those of METIS on the intact block (%.3g, %.3g), beyond "
+             "--plan-max-ratio %g or the %d fresh factorizations of the plan's steps",
+             F->lnz_plan, F->fl_plan, rl, rf, F->lnz_ref, F->fl_ref, max_ratio, nsteps + 1);
+}
+
+static int factorize(kt_plan_factor *F, const int *P, int factor, double max_ratio, int nsteps,
+                     kt_err *e)
 {
     F->c.nmethods = 1;
     F->c.method[0].ordering = CHOLMOD_GIVEN;
@@ -213,6 +257,8 @@ static int factorize(kt_plan_factor *F, const int *P, int factor, kt_err *e)
     for (int q = 0; q < F->nfree; q++)
         if (LP[q] != P[q])
             return kt_fail(e, KT_ERUN, "CHOLMOD did not keep the given order at %d", q);
+    size_check(F, max_ratio, nsteps);
+    if (F->refused) return KT_OK;
     cholmod_factorize(F->A, F->L, &F->c);
     if (F->c.status == CHOLMOD_NOT_POSDEF || F->L->minor < F->L->n)
         return kt_fail(e, KT_ERUN, "the planned augmented matrix is not positive definite at "
@@ -280,17 +326,19 @@ static int trailing_block(kt_plan_factor *F, kt_err *e)
 }
 
 int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
-                         const kt_materials *mats, int ordering, int factor, kt_err *e)
+                         const kt_materials *mats, int ordering, int factor, double max_ratio,
+                         kt_err *e)
 {
     memset(F, 0, sizeof *F);
     cholmod_start(&F->c);
     F->started = 1;
-    if (positions(F, p, e) || assemble(F, p, final, mats, e)) return e->code;
+    if (positions(F, p, e) || assemble(F, p, final, mats, e) || frobenius(F, p->nsteps, e))
+        return e->code;
     double t0 = kt_now();
     int *P = order(F, ordering, e);
     if (!P) return e->code;
     double t1 = kt_now();
-    if (factorize(F, P, factor, e) == KT_OK) trailing_block(F, e);
+    if (factorize(F, P, factor, max_ratio, p->nsteps, e) == KT_OK && !F->refused) trailing_block(F, e);
     free(P);
     F->t_order = t1 - t0;
     F->t_factor = kt_now() - t1;

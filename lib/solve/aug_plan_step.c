@@ -4,6 +4,7 @@
  * displacement of the cut mesh and its reactions. */
 #include "aug_plan.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,6 +18,9 @@ void kt_plan_state_free(kt_plan_state *s)
     free(s->force);
     free(s->f);
     free(s->tf);
+    free(s->fe_rel);
+    free(s->pown);
+    free(s->pview.tet);
     free(s->v);
     free(s->u);
     free(s->react);
@@ -25,6 +29,66 @@ void kt_plan_state_free(kt_plan_state *s)
     free(s->r);
     free(s->ax);
     memset(s, 0, sizeof *s);
+}
+
+/* Each tet's prestress internal forces (fem layer), once: the loads of every step assemble them
+ * in tet order on the cut mesh, as kt_fem_release_loads would, without the element integrals. */
+static int release_forces(kt_plan_state *s, const kt_aug_problem *prob, kt_err *e)
+{
+    const kt_mesh *m = prob->mesh;
+    if (!prob->mats->td || !prob->mats->td->sig) return KT_OK;
+    size_t ld = 3 * (size_t)kt_tet_nv(m->order);
+    if (!(s->fe_rel = kt_calloc((size_t)m->ne * ld, sizeof(double), e))) return e->code;
+    for (int el = 0; el < m->ne; el++)
+        if (kt_fem_element_release(m, prob->mats, el, s->fe_rel + el * ld, e)) return e->code;
+    return KT_OK;
+}
+
+/* The tets a pressure can load: those with three corners on a pressure surface (a superset of
+ * the tets whose face is a triangle of it; tets keep their numbers through cuts, and so do
+ * the surfaces' triangles). The pressures of a step are those of the view of the cut mesh
+ * with these tets only: every loaded triangle is still the face of exactly one of them, the
+ * one it bounds, and the fem layer walks its faces in the same order, so the loads are
+ * bitwise those of the whole mesh at a fraction of the search. */
+static int pressure_tets(kt_plan_state *s, const kt_aug_problem *prob, kt_err *e)
+{
+    const kt_mesh *m = prob->mesh;
+    int fv = kt_tri_nv(m->order), nv = kt_tet_nv(m->order);
+    unsigned char *on = kt_calloc((size_t)m->nn, 1, e);
+    if (!on) return e->code;
+    for (int t = 0; t < m->nf; t++)
+        for (int k = 0; k < prob->npress; k++)
+            if (m->tri_tag[t] == prob->press[k].tag)
+                for (int a = 0; a < 3; a++) on[m->tri[(size_t)t * fv + a]] = 1;
+    for (int pass = 0; pass < 2 && !e->code; pass++) {
+        s->npown = 0;
+        for (int el = 0; el < m->ne; el++) {
+            const int *t = m->tet + (size_t)el * nv;
+            if (on[t[0]] + on[t[1]] + on[t[2]] + on[t[3]] < 3) continue;
+            if (pass) s->pown[s->npown] = el;
+            s->npown++;
+        }
+        if (!pass) {
+            s->pown = kt_calloc((size_t)s->npown + 1, sizeof(int), e);
+            s->pview.tet = kt_calloc(((size_t)s->npown + 1) * nv, sizeof(int), e);
+        }
+    }
+    free(on);
+    return e->code;
+}
+
+/* The view for this step: the current nodes of the pressure tets, the mesh's triangles. */
+static void pressure_view(kt_plan_state *s)
+{
+    const kt_mesh *m = &s->mesh;
+    int nv = kt_tet_nv(m->order);
+    int *tet = s->pview.tet;
+    s->pview = *m;
+    s->pview.tet = tet;
+    s->pview.tet_tag = NULL;
+    s->pview.ne = s->npown;
+    for (int k = 0; k < s->npown; k++)
+        memcpy(tet + (size_t)k * nv, m->tet + (size_t)s->pown[k] * nv, (size_t)nv * sizeof(int));
 }
 
 int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
@@ -45,7 +109,8 @@ int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_aug_problem 
     s->ax = kt_calloc(n, sizeof(double), e);
     if (e->code || kt_mesh_copy(&s->mesh, prob->mesh, e)) return e->code;
     for (int a = 0; a < p->nn0; a++) s->origin[a] = a;
-    return KT_OK;
+    if (pressure_tets(s, prob, e)) return e->code;
+    return release_forces(s, prob, e);
 }
 
 int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e)
@@ -65,15 +130,25 @@ int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e)
 }
 
 /* Applied loads on the cut mesh: the scene's pressures (fem layer), the prestress's internal
- * forces when the scene is prestressed (their release across cut faces), the edits' forces. */
+ * forces when the scene is prestressed (their release across cut faces; each tet's forces
+ * from s->fe_rel on its current nodes), the edits' forces. */
 static int loads(kt_plan_state *s, const kt_aug_problem *prob, kt_err *e)
 {
     size_t n = 3 * (size_t)s->mesh.nn;
     memset(s->f, 0, n * sizeof(double));
+    pressure_view(s);
     for (int k = 0; k < prob->npress; k++)
-        if (kt_fem_pressure(&s->mesh, prob->press[k].tag, prob->press[k].p, s->f, e))
+        if (kt_fem_pressure(&s->pview, prob->press[k].tag, prob->press[k].p, s->f, e))
             return e->code;
-    if (kt_fem_release_loads(&s->mesh, prob->mats, s->f, e)) return e->code;
+    if (s->fe_rel) {
+        int nv = kt_tet_nv(s->mesh.order);
+        for (int el = 0; el < s->mesh.ne; el++) {
+            const int *t = s->mesh.tet + (size_t)el * nv;
+            const double *fe = s->fe_rel + (size_t)el * 3 * nv;
+            for (int a = 0; a < nv; a++)
+                for (int c = 0; c < 3; c++) s->f[3 * (size_t)t[a] + c] += fe[3 * a + c];
+        }
+    }
     for (size_t i = 0; i < n; i++) s->f[i] += s->force[i];
     return KT_OK;
 }
@@ -115,16 +190,32 @@ static int solve_sys(kt_plan_factor *F, int sys, cholmod_dense *in, cholmod_dens
     return KT_OK;
 }
 
+/* Whether the intact rows of b are those y0 was made from, up to rounding: within
+ * SAME_ROUNDING x eps x scale (scale: the largest load a variable sums, |T^T f|). Mathematically
+ * they are the same whenever the loads move with the tets (pressures, prestress release): each
+ * intact variable sums its node's and its descendants' loads, which a cut only regroups; the
+ * sums in another order differ by rounding. Using b_K0 then solves for a right-hand side off by
+ * that much, which the backward-error check of the step (against the step's own b) counts. */
+enum { SAME_ROUNDING = 64 };
+static int same_intact_rows(const kt_plan_factor *F, const double *b, double scale)
+{
+    double tol = SAME_ROUNDING * DBL_EPSILON * scale;
+    for (int i = 0; i < F->nK; i++)
+        if (!(fabs(b[i] - F->bK0[i]) <= tol)) return 0;
+    return 1;
+}
+
 /* y = L^-1 P b: when the intact rows of b are those the stored y0 was made from, only the
  * increments' rows change: y = y0 + [0; L22^-1 b_I] (L22 unit-diagonal for LDL^T), computed
  * on the first N rows only. Else a full forward solve (the first one stores y0). */
-static int forward(kt_plan_factor *F, int N, double *b, int shortcut, kt_err *e)
+static int forward(kt_plan_factor *F, int N, double *b, int shortcut, double scale, kt_err *e)
 {
     int nK = F->nK;
     if (!F->w[1] && !(F->w[1] = cholmod_zeros(F->nfree, 1, CHOLMOD_REAL, &F->c)))
         return kt_fail(e, KT_ERUN, "CHOLMOD out of memory");
     double *y = F->w[1]->x;
-    if (shortcut && F->y0 && memcmp(b, F->bK0, (size_t)nK * sizeof(double)) == 0) {
+    if (shortcut && F->y0 && same_intact_rows(F, b, scale)) {
+        F->nshort++;
         memcpy(y, F->y0, (size_t)N * sizeof(double));
         double *z = y + nK;
         const double *bI = b + nK;
@@ -151,7 +242,9 @@ static int forward(kt_plan_factor *F, int N, double *b, int shortcut, kt_err *e)
         if (solve_sys(F, CHOLMOD_P, &B0, &F->w[0], e) || solve_sys(F, CHOLMOD_L, F->w[0], &F->w[1], e))
             return e->code;
         memcpy(F->y0, F->w[1]->x, (size_t)F->nfree * sizeof(double));
-        return forward(F, N, b, shortcut, e);
+        int rc = forward(F, N, b, shortcut, scale, e);
+        F->nshort--; /* the step that made y0 did the full forward solve */
+        return rc;
     }
     if (solve_sys(F, CHOLMOD_P, &B, &F->w[0], e) || solve_sys(F, CHOLMOD_L, F->w[0], &F->w[1], e))
         return e->code;
@@ -161,11 +254,11 @@ static int forward(kt_plan_factor *F, int N, double *b, int shortcut, kt_err *e)
 /* x = A_k^-1 b on the first N free positions, 0 after: forward, the rows of the unreleased
  * increments zeroed, L^T (D L^T for LDL^T), P^T. t[0..1] += forward, back (s); t[2] counts the
  * forward solves that took the increments-only path. */
-static int substitute(kt_plan_factor *F, int N, double *b, double *x, int shortcut, double *t,
-                      kt_err *e)
+static int substitute(kt_plan_factor *F, int N, double *b, double *x, int shortcut, double scale,
+                      double *t, kt_err *e)
 {
     double t0 = kt_now();
-    if (forward(F, N, b, shortcut, e)) return e->code;
+    if (forward(F, N, b, shortcut, scale, e)) return e->code;
     double *y = F->w[1]->x;
     memset(y + N, 0, (size_t)(F->nfree - N) * sizeof(double)); /* P keeps them in place */
     double t1 = kt_now();
@@ -184,33 +277,34 @@ static int substitute(kt_plan_factor *F, int N, double *b, double *x, int shortc
     return KT_OK;
 }
 
-/* r = b - A_k x on the first N positions; returns ||r|| / ||b|| and sets *backward to
- * ||r|| / (|| |A_k| |x| || + ||b||). ax: N scratch values. */
-static double residual(const kt_plan_factor *F, int N, const double *b, const double *x, double *r,
-                       double *ax, double *backward)
+/* r = b - A_k x on the first N positions; returns ||r|| / ||b|| and sets *backward to the
+ * normwise backward error ||r|| / (||A_k||_F ||x|| + ||b||) (2-norms, ||A_k||_F = fro from
+ * F->fro_at). It bounds the componentwise form ||r|| / (|| |A_k| |x| || + ||b||) from below by
+ * at most ||A_k||_F ||x|| / || |A_k| |x| || and costs one pass over A's lower triangle. */
+static double residual(const kt_plan_factor *F, int N, double fro, const double *b,
+                       const double *x, double *r, double *backward)
 {
     const int *Ap = F->A->p, *Ai = F->A->i;
     const double *Ax = F->A->x;
     memcpy(r, b, (size_t)N * sizeof(double));
-    memset(ax, 0, (size_t)N * sizeof(double));
-    for (int j = 0; j < N; j++)
+    for (int j = 0; j < N; j++) {
+        double xj = x[j], sj = 0;
         for (int q = Ap[j]; q < Ap[j + 1]; q++) {
             int i = Ai[q];
             if (i >= N) continue;
-            r[i] -= Ax[q] * x[j];
-            ax[i] += fabs(Ax[q] * x[j]);
-            if (i != j) {
-                r[j] -= Ax[q] * x[i];
-                ax[j] += fabs(Ax[q] * x[i]);
-            }
+            sj += Ax[q] * x[i];
+            if (i != j) r[i] -= Ax[q] * xj;
         }
-    double rr = 0, bb = 0, aa = 0;
+        r[j] -= sj;
+    }
+    double rr = 0, bb = 0, xx = 0;
     for (int i = 0; i < N; i++) {
         rr += r[i] * r[i];
         bb += b[i] * b[i];
-        aa += ax[i] * ax[i];
+        xx += x[i] * x[i];
     }
-    *backward = aa + bb > 0 ? sqrt(rr) / (sqrt(aa) + sqrt(bb)) : 0;
+    double den = fro * sqrt(xx) + sqrt(bb);
+    *backward = den > 0 ? sqrt(rr) / den : 0;
     return bb > 0 ? sqrt(rr / bb) : sqrt(rr);
 }
 
@@ -244,16 +338,18 @@ int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
     int N = F->nfree_at[s->step];
     if (loads(s, prob, e)) return e->code;
     rhs(s, p, F);
+    double scale = 0;
+    for (int v = 0; v < 3 * s->mesh.nn; v++) scale = fmax(scale, fabs(s->tf[v]));
     double t1 = kt_now();
-    if (substitute(F, N, s->b, s->x, 1, ts, e)) return e->code;
+    if (substitute(F, N, s->b, s->x, 1, scale, ts, e)) return e->code;
     double t2 = kt_now(), backward = 0, rel = NAN;
-    if (!F->want) rel = residual(F, N, s->b, s->x, s->r, s->ax, &backward);
+    if (!F->want) rel = residual(F, N, F->fro_at[s->step], s->b, s->x, s->r, &backward);
     s->row.iters = 0;
     if (!(backward <= tol)) { /* one step of iterative refinement */
         memset(s->r + N, 0, (size_t)(F->nfree - N) * sizeof(double));
-        if (substitute(F, N, s->r, s->ax, 0, ts, e)) return e->code;
+        if (substitute(F, N, s->r, s->ax, 0, scale, ts, e)) return e->code;
         for (int i = 0; i < N; i++) s->x[i] += s->ax[i];
-        rel = residual(F, N, s->b, s->x, s->r, s->ax, &backward);
+        rel = residual(F, N, F->fro_at[s->step], s->b, s->x, s->r, &backward);
         s->row.iters = 1;
     }
     if (!(backward <= tol))

@@ -113,6 +113,21 @@ static double diff_on(const double *u, const double *ref, const unsigned char *o
     return m > 0 ? d / m : d;
 }
 
+/* ||A_k||_F of every step from A's lower triangle, against F->fro_at (the backward error's). */
+static void check_frobenius(const kt_plan_factor *F, int nsteps, const char *name)
+{
+    const int *Ap = F->A->p, *Ai = F->A->i;
+    const double *Ax = F->A->x;
+    for (int k = 0; k <= nsteps; k++) {
+        double ss = 0;
+        int N = F->nfree_at[k];
+        for (int j = 0; j < N; j++)
+            for (int q = Ap[j]; q < Ap[j + 1]; q++)
+                if (Ai[q] < N) ss += (Ai[q] == j ? 1 : 2) * Ax[q] * Ax[q];
+        CHECK_NEAR(F->fro_at[k], sqrt(ss), 1e-12 * sqrt(ss), name);
+    }
+}
+
 /* Every step of the plan against a fresh factorization (only on the surface group "only" when
  * given: the restricted back substitution); returns the steps checked. */
 static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *only,
@@ -129,9 +144,11 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
     CHECK(p.usable, "%s: plan refused: %s", name, p.why);
     for (int a = p.nn0; a < p.nn; a++) splits2 += p.parent[a] >= p.nn0;
     CHECK(splits2 > 0, "%s: the stream splits no node twice", name);
-    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, ordering, factor, &e) == KT_OK,
-          "%s: factor: %s", name, e.msg);
+    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, ordering, factor, KT_PLAN_MAX_RATIO,
+                               &e) == KT_OK && !F.refused,
+          "%s: factor: %s %s", name, e.msg, F.why);
     CHECK(kt_plan_state_init(&S, &p, &s->prob, &e) == KT_OK, "%s: state: %s", name, e.msg);
+    check_frobenius(&F, p.nsteps, name);
     if (only) {
         unsigned char *on = surface_nodes(&final, only);
         CHECK(kt_plan_factor_restrict(&F, &p, on, &e) == KT_OK, "%s: restrict: %s", name, e.msg);
@@ -149,6 +166,16 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
         double d = diff_on(S.u, ref, on, S.mesh.nn);
         free(on);
         CHECK(d <= 1e-10, "%s: step %d: planned vs fresh %.3g", name, k, d);
+        /* the loads from the pressure tets' view are bitwise those of the whole cut mesh */
+        double *fw = calloc(3 * (size_t)S.mesh.nn, sizeof(double));
+        for (int q = 0; q < s->prob.npress; q++)
+            kt_fem_pressure(&S.mesh, s->prob.press[q].tag, s->prob.press[q].p, fw, &e);
+        int same = 1;
+        for (int i = 0; i < 3 * S.mesh.nn; i++) same &= fw[i] + S.force[i] == S.f[i];
+        CHECK(same && s->prob.npress > 0 && S.npown < S.mesh.ne,
+              "%s: step %d: loads differ from the whole mesh's (%d of %d tets)", name, k, S.npown,
+              S.mesh.ne);
+        free(fw);
         CHECK(S.row.m == F.nfree_at[k] - F.nK, "%s: step %d: m", name, k);
         if (!only) check_equilibrium(&S, k);
         checked++;
@@ -224,6 +251,42 @@ static void check_validation(scenario *s)
     fclose(f);
 }
 
+/* The size check: the planned factor of the box's plan against METIS on its intact block
+ * (the analysis predicts the factor's nonzeros exactly); refused (nothing factored, the reason
+ * given) just below its own nonzero ratio, built just above (its flops ratio is below the
+ * plan's nsteps + 1 fresh factorizations). */
+static void check_size_refusal(scenario *s, FILE *f)
+{
+    kt_err e = {0};
+    kt_plan p;
+    kt_mesh final = {0};
+    kt_plan_factor F = {0};
+    CHECK(read_plan(f, &p, &e) == KT_OK && kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK,
+          "size: %s", e.msg);
+    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
+                               KT_AUG_FACTOR_SUPERNODAL, 0, &e) == KT_OK && !F.refused,
+          "size: no check: %s", e.msg);
+    double r = F.lnz_plan / F.lnz_ref, rf = F.fl_plan / F.fl_ref;
+    CHECK(r > 1 && rf > 1 && rf <= p.nsteps + 1 && F.lnz_plan >= F.nnzL * 0.999 &&
+              F.lnz_plan <= F.nnzL * 1.001,
+          "size: predicted %g (factor %g) vs METIS %g; flops %g vs %g", F.lnz_plan, F.nnzL,
+          F.lnz_ref, F.fl_plan, F.fl_ref);
+    kt_plan_factor_free(&F);
+    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
+                               KT_AUG_FACTOR_SUPERNODAL, 0.99 * r, &e) == KT_OK,
+          "size: refusal is no error: %s", e.msg);
+    CHECK(F.refused && F.nnzL == 0 && !F.Tp && strstr(F.why, "--plan-max-ratio"),
+          "size: ratio %g not refused at %g (why '%s')", r, 0.99 * r, F.why);
+    kt_plan_factor_free(&F);
+    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
+                               KT_AUG_FACTOR_SUPERNODAL, 1.01 * r, &e) == KT_OK &&
+              !F.refused && F.nnzL > 0,
+          "size: ratio %g refused at %g", r, 1.01 * r);
+    kt_plan_factor_free(&F);
+    kt_mesh_free(&final);
+    kt_plan_free(&p);
+}
+
 int main(void)
 {
     kt_err e = {0};
@@ -241,6 +304,7 @@ int main(void)
               nsteps + 1, "amd supernodal: not every step checked");
     CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, "zmax", "zmax only") ==
               nsteps + 1, "zmax only: not every step checked");
+    check_size_refusal(&s, f);
     fclose(f);
     check_validation(&s);
     scenario_free(&s);
