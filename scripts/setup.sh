@@ -11,8 +11,8 @@ pkgs=(build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libopenbl
       parallel slurm-wlm munge)
 if [ "${1:-}" = --test ]; then
   # test only: chromium for the report checks; clang and its runtime (libFuzzer) for
-  # scripts/fuzz.sh
-  pkgs+=(chromium python3-pil fonts-dejavu-core clang libclang-rt-14-dev)
+  # scripts/fuzz.sh; valgrind (memcheck of the small unit programs)
+  pkgs+=(chromium python3-pil fonts-dejavu-core clang libclang-rt-14-dev valgrind)
 elif [ $# -gt 0 ]; then
   echo "setup: unknown option $1 (usage: setup.sh [--test])" >&2; exit 2
 fi

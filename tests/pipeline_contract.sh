@@ -81,6 +81,15 @@ done
 # holds the folder however slowly a loaded machine starts it).
 B2="$T/moved/in"
 "$B/cutplan" -q "$B2/cut-beam-4.yaml" "$B2/beam.msh" -o "$B2/cut.edits" || bad "cutplan after the move"
+# The mesh inside the run folder, as scripts/demo.sh lays it out: run.yaml names it by its
+# bare name (a stray "../" here once sent curvature to a file beside the folder).
+mkdir -p "$T/inside"
+cp "$T/moved/in/beam.msh" "$T/inside/beam.msh"
+"$B/augsolve" -q "$T/inside/beam.msh" "$T/moved/in/cut.edits" -o "$T/inside" --no-vtk 2>"$T/err" ||
+    { bad "augsolve with the mesh inside its run folder"; cat "$T/err"; }
+if grep -qx 'mesh: "beam.msh"' "$T/inside/run.yaml"; then ok "a mesh inside the run folder is named beam.msh"
+else bad "a mesh inside the run folder: $(grep '^mesh:' "$T/inside/run.yaml")"; fi
+
 mkfifo "$T/fifoA"
 "$B/augsolve" -q "$B2/beam.msh" "$T/fifoA" -o "$T/shared" --no-vtk 2>"$T/errA" &
 apid=$!

@@ -204,10 +204,11 @@ void kt_path_relative(const char *file, const char *dir, char *out, size_t size)
     size_t i = 0, common = 0; /* f[0, common) and d[0, common): the shared whole components */
     while (f[i] && f[i] == d[i])
         if (f[i++] == '/') common = i;
-    if (d[i] == '\0' && f[i] == '/') common = i + 1;
+    int inside = d[i] == '\0' && f[i] == '/'; /* file lies inside dir: no "../" at all */
+    if (inside) common = i + 1;
     char rel[PATH_MAX];
     size_t len = 0;
-    if (d[common]) { /* one "../" per component of dir after the shared ones */
+    if (!inside && d[common]) { /* one "../" per component of dir after the shared ones */
         len += (size_t)snprintf(rel, sizeof rel, "../");
         for (const char *q = d + common; *q && len + 4 < sizeof rel; q++)
             if (*q == '/') len += (size_t)snprintf(rel + len, sizeof rel - len, "../");

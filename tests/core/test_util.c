@@ -1,6 +1,6 @@
 /* test_util.c: atomic output (a committed file appears whole, an aborted one leaves no file and
  * no temporary, an old file survives an aborted rewrite), errors (first one wins), allocation
- * overflow, and the whole-string number parsers. */
+ * overflow, the whole-string number parsers, and paths relative to a folder (run.yaml's). */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <limits.h>
@@ -135,6 +135,32 @@ static void test_parse(void)
     }
 }
 
+/* kt_path_relative: a file inside the folder, beside it, above it, and "-" as it is. (A file
+ * inside the folder once read past the folder's string and got a stray "../" when that memory
+ * held garbage: tests/pipeline_contract.sh checks it through augsolve, where it did.) */
+static void test_path_relative(void)
+{
+    char run[128], sub[160], f[200], out[256];
+    kt_err e = {0};
+    snprintf(run, sizeof run, "%s/run", dir);
+    snprintf(sub, sizeof sub, "%s/run/in", dir);
+    CHECK(kt_mkdir_p(sub, &e) == 0, "%s", e.msg);
+    const struct { const char *file, *want; } cases[] = {
+        {"run/eye.msh", "eye.msh"}, {"run/in/eye.msh", "in/eye.msh"}, {"eye.msh", "../eye.msh"},
+        {"runx.msh", "../runx.msh"}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        snprintf(f, sizeof f, "%s/%s", dir, cases[i].file);
+        FILE *fp = fopen(f, "w");
+        CHECK(fp != NULL, "cannot create %s", f);
+        if (fp) fclose(fp);
+        kt_path_relative(f, run, out, sizeof out);
+        CHECK(strcmp(out, cases[i].want) == 0, "%s relative to %s: '%s', expected '%s'", f, run,
+              out, cases[i].want);
+    }
+    kt_path_relative("-", run, out, sizeof out);
+    CHECK(strcmp(out, "-") == 0, "'-' became '%s'", out);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/kt-util-XXXXXX");
@@ -145,6 +171,7 @@ int main(void)
     test_atomic_output();
     test_errors_and_alloc();
     test_parse();
+    test_path_relative();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
