@@ -539,7 +539,9 @@ static int page(FILE *f, const kt_report *r, kt_err *e)
     snprintf(title, sizeof title, "keratome: %s", r->plan && r->plan->scene.name[0] ? r->plan->scene.name : r->run_dir);
     kt_html_begin(f, title, CSS);
     fputs("<header><h1>Limbal relaxing incisions: what the cut does to the cornea</h1><p>", f);
-    kt_html_text(f, r->plan_path ? r->plan_path : "(no plan)");
+    /* the plan's file name here; its path (relative to the run folder) is in the provenance */
+    const char *slash = r->plan_path ? strrchr(r->plan_path, '/') : NULL;
+    kt_html_text(f, slash ? slash + 1 : r->plan_path ? r->plan_path : "(no plan)");
     fprintf(f, " &middot; %d step%s &middot; simulated by keratome ", r->nstep - 1, r->nstep == 2 ? "" : "s");
     kt_html_text(f, r->version);
     fputs("</p></header>\n<main>\n", f);
