@@ -195,7 +195,7 @@ int aug_solve_cg(kt_aug *A, int use_jacobi, kt_err *e)
             A->u[i] = A->s.cons[i] ? 0.0 : A->uprev[i];
             if (A->s.cons[i]) b[i] = 0;
         }
-        kt_krylov_opts ko = {A->o.tol, 0, A->o.maxit > 0 ? A->o.maxit : 20000};
+        kt_krylov_opts ko = {A->o.tol, A->o.maxit > 0 ? A->o.maxit : 20000};
         kt_krylov_stats st;
         if (kt_krylov_cg(n, symv, K, d, b, A->u, &ko, &st, e) == KT_OK) {
             A->row.iters = st.iters;

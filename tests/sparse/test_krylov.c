@@ -1,7 +1,6 @@
-/* test_krylov.c: CG and restarted GMRES on small operators whose solutions are known: the
- * 1D Laplacian, a convection-diffusion matrix, a matrix with three eigenvalues, the cyclic
- * shift (where GMRES(k < n) makes no progress at all), an inconsistent singular system, and
- * an operator that fails. */
+/* test_krylov.c: CG and Jacobi-preconditioned CG on small operators whose solutions are known:
+ * the 1D Laplacian, a varying diagonal, a matrix with three eigenvalues, an indefinite matrix
+ * (refused), and an operator that fails. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -24,35 +23,6 @@ static int tri_apply(void *ctx, const double *x, double *y, kt_err *e)
         if (i > 0) y[i] += t->lo[i] * x[i - 1];
         if (i + 1 < t->n) y[i] += t->up[i] * x[i + 1];
     }
-    return KT_OK;
-}
-
-/* y = T^-1 x by the Thomas algorithm (no pivoting: T diagonally dominant). */
-static int tri_solve(void *ctx, const double *x, double *y, kt_err *e)
-{
-    const tri *t = ctx;
-    int n = t->n;
-    double *c = kt_calloc((size_t)n, sizeof(double), e);
-    if (!c) return e->code;
-    double den = t->di[0];
-    c[0] = t->up[0] / den;
-    y[0] = x[0] / den;
-    for (int i = 1; i < n; i++) {
-        den = t->di[i] - t->lo[i] * c[i - 1];
-        c[i] = i + 1 < n ? t->up[i] / den : 0;
-        y[i] = (x[i] - t->lo[i] * y[i - 1]) / den;
-    }
-    for (int i = n - 2; i >= 0; i--) y[i] -= c[i] * y[i + 1];
-    free(c);
-    return KT_OK;
-}
-
-/* y = D^-1 x, the Jacobi preconditioner as an operator. */
-static int tri_jacobi(void *ctx, const double *x, double *y, kt_err *e)
-{
-    (void)e;
-    const tri *t = ctx;
-    for (int i = 0; i < t->n; i++) y[i] = x[i] / t->di[i];
     return KT_OK;
 }
 
@@ -124,11 +94,11 @@ static void test_cg_laplacian(void)
     tri_make(&t, N, -1, 2, -1);
     double xs[N], b[N], x[N] = {0};
     make_rhs(&t, xs, b);
-    kt_krylov_opts o = {1e-12, 0, 1000};
+    kt_krylov_opts o = {1e-12, 1000};
     kt_krylov_stats st;
     kt_err e = {0};
     CHECK(kt_krylov_cg(N, tri_apply, &t, NULL, b, x, &o, &st, &e) == KT_OK, "%s", e.msg);
-    CHECK(st.converged && !st.stagnated, "converged %d stagnated %d", st.converged, st.stagnated);
+    CHECK(st.converged, "converged %d", st.converged);
     double rr = relres(&t, b, x);
     CHECK(rr <= 1e-12, "true relative residual %.3g", rr);
     CHECK_NEAR(st.relres, rr, 1e-6, "reported relres is the true one");
@@ -150,7 +120,7 @@ static void test_cg_jacobi_and_three_eigenvalues(void)
     for (int i = 0; i < N; i++) t.di[i] = 2.5 + i, dinv[i] = 1 / t.di[i];
     double xs[N], b[N], x[N] = {0}, x2[N] = {0};
     make_rhs(&t, xs, b);
-    kt_krylov_opts o = {1e-12, 0, 1000};
+    kt_krylov_opts o = {1e-12, 1000};
     kt_krylov_stats st, st2;
     kt_err e = {0};
     CHECK(kt_krylov_cg(N, tri_apply, &t, dinv, b, x, &o, &st, &e) == KT_OK && st.converged, "%s", e.msg);
@@ -167,11 +137,6 @@ static void test_cg_jacobi_and_three_eigenvalues(void)
     CHECK(kt_krylov_cg(N, tri_apply, &d, NULL, b, xd, &o, &st, &e) == KT_OK && st.converged, "%s", e.msg);
     CHECK(st.iters <= 4, "three eigenvalues took %d CG iterations", st.iters);
     CHECK(err_rel(N, xd, xs) < 1e-12, "three eigenvalues: error %.3g", err_rel(N, xd, xs));
-    /* and the same in GMRES: the Krylov space has dimension 3 */
-    double xg[N] = {0};
-    kt_krylov_opts og = {1e-12, 30, 1000};
-    CHECK(kt_krylov_gmres(N, tri_apply, &d, NULL, NULL, b, xg, &og, &st, &e) == KT_OK && st.converged, "%s", e.msg);
-    CHECK(st.iters <= 4, "three eigenvalues took %d GMRES iterations", st.iters);
     tri_free(&d);
 
     /* an indefinite matrix is refused by CG, loudly */
@@ -186,127 +151,7 @@ static void test_cg_jacobi_and_three_eigenvalues(void)
     tri_free(&t);
 }
 
-/* GMRES on convection-diffusion tridiag(-1.6, 2, -0.4): nonsymmetric. */
-static void test_gmres_nonsymmetric(void)
-{
-    enum { N = 50 };
-    tri t;
-    tri_make(&t, N, -1.6, 2, -0.4);
-    double xs[N], b[N];
-    make_rhs(&t, xs, b);
-    kt_krylov_stats st;
-    kt_err e = {0};
-    /* full GMRES (restart = n), no preconditioner */
-    double x[N] = {0};
-    kt_krylov_opts o = {1e-11, N, 1000};
-    CHECK(kt_krylov_gmres(N, tri_apply, &t, NULL, NULL, b, x, &o, &st, &e) == KT_OK, "%s", e.msg);
-    CHECK(st.converged && st.iters <= N, "converged %d in %d", st.converged, st.iters);
-    double rr = relres(&t, b, x);
-    CHECK(rr <= 1e-11, "true residual %.3g", rr);
-    CHECK_NEAR(st.relres, rr, 1e-6, "reported relres is the true one");
-    CHECK(err_rel(N, x, xs) < 1e-8, "error %.3g", err_rel(N, x, xs));
-
-    /* the exact inverse as preconditioner: one iteration */
-    double xp[N] = {0};
-    CHECK(kt_krylov_gmres(N, tri_apply, &t, tri_solve, &t, b, xp, &o, &st, &e) == KT_OK, "%s", e.msg);
-    CHECK(st.converged && st.iters == 1, "exact preconditioner: %d iterations", st.iters);
-    CHECK(err_rel(N, xp, xs) < 1e-12, "exact preconditioner: error %.3g", err_rel(N, xp, xs));
-
-    /* Jacobi with a varying diagonal, restarted every 8 */
-    for (int i = 0; i < N; i++) t.di[i] = 2 + 0.5 * i;
-    make_rhs(&t, xs, b);
-    double xj[N] = {0}, x0[N] = {0};
-    kt_krylov_opts o8 = {1e-11, 8, 2000};
-    kt_krylov_stats sj, s0;
-    CHECK(kt_krylov_gmres(N, tri_apply, &t, tri_jacobi, &t, b, xj, &o8, &sj, &e) == KT_OK && sj.converged,
-          "Jacobi GMRES(8): %s converged %d", e.msg, sj.converged);
-    CHECK(kt_krylov_gmres(N, tri_apply, &t, NULL, NULL, b, x0, &o8, &s0, &e) == KT_OK && s0.converged,
-          "GMRES(8): %s converged %d", e.msg, s0.converged);
-    CHECK(err_rel(N, xj, xs) < 1e-9 && err_rel(N, x0, xs) < 1e-9, "errors %.3g %.3g", err_rel(N, xj, xs),
-          err_rel(N, x0, xs));
-    CHECK(relres(&t, b, xj) <= 1e-11 && relres(&t, b, x0) <= 1e-11, "true residuals");
-    CHECK(sj.iters < s0.iters, "Jacobi %d iterations, none %d", sj.iters, s0.iters);
-
-    /* an initial guess that is the solution: zero iterations */
-    kt_krylov_stats sx;
-    CHECK(kt_krylov_gmres(N, tri_apply, &t, NULL, NULL, b, xs, &o8, &sx, &e) == KT_OK && sx.converged &&
-          sx.iters == 0, "start at the solution: %d iterations", sx.iters);
-    /* b = 0: x = 0 */
-    double z[N] = {0}, xz[N];
-    for (int i = 0; i < N; i++) xz[i] = 1;
-    CHECK(kt_krylov_gmres(N, tri_apply, &t, NULL, NULL, z, xz, &o8, &sx, &e) == KT_OK && sx.converged &&
-          norm(N, xz) == 0, "b = 0 gives x = 0");
-    tri_free(&t);
-}
-
-/* The cyclic shift Z (Z e_i = e_i+1, Z e_n = e_1) with b = e_1: x = e_n. GMRES(k < n) cannot
- * reduce the residual at all (b is orthogonal to Z K_k); full GMRES solves it in n steps. */
-typedef struct shift {
-    int n;
-} shift;
-
-static int shift_apply(void *ctx, const double *x, double *y, kt_err *e)
-{
-    (void)e;
-    int n = ((shift *)ctx)->n;
-    for (int i = 0; i < n; i++) y[(i + 1) % n] = x[i];
-    return KT_OK;
-}
-
-static void test_gmres_restart(void)
-{
-    enum { N = 12 };
-    shift z = {N};
-    double b[N] = {1}, x[N] = {0};
-    kt_krylov_opts full = {1e-12, N, 1000};
-    kt_krylov_stats st;
-    kt_err e = {0};
-    CHECK(kt_krylov_gmres(N, shift_apply, &z, NULL, NULL, b, x, &full, &st, &e) == KT_OK, "%s", e.msg);
-    CHECK(st.converged && st.iters == N, "full GMRES: converged %d after %d (want %d)", st.converged, st.iters, N);
-    CHECK(fabs(x[N - 1] - 1) < 1e-12 && fabs(x[0]) < 1e-12, "x = e_n: x_n %.17g", x[N - 1]);
-
-    double y[N] = {0};
-    kt_krylov_opts rst = {1e-12, 5, 1000};
-    CHECK(kt_krylov_gmres(N, shift_apply, &z, NULL, NULL, b, y, &rst, &st, &e) == KT_OK, "%s", e.msg);
-    CHECK(!st.converged && st.stagnated, "GMRES(5): converged %d stagnated %d", st.converged, st.stagnated);
-    CHECK(fabs(st.relres - 1) < 1e-12 && norm(N, y) < 1e-12, "GMRES(5) moved: relres %.17g |x| %.3g", st.relres,
-          norm(N, y));
-    /* it gives up after the documented 5 cycles and 50 iterations, long before maxit */
-    CHECK(st.iters >= 50 && st.iters <= 60, "stagnation declared after %d iterations", st.iters);
-
-    /* a cap below the stagnation window: neither converged nor stagnated, iters = maxit */
-    double w[N] = {0};
-    kt_krylov_opts cap = {1e-12, 5, 17};
-    CHECK(kt_krylov_gmres(N, shift_apply, &z, NULL, NULL, b, w, &cap, &st, &e) == KT_OK, "%s", e.msg);
-    CHECK(!st.converged && !st.stagnated && st.iters == 17, "capped: iters %d", st.iters);
-}
-
-/* An inconsistent system: A = diag(1, ..., 1, 0), b = ones. The least-squares residual is the
- * last component: relres = 1/sqrt(n); GMRES must get there, report stagnation, and keep x finite. */
-static void test_gmres_inconsistent(void)
-{
-    enum { N = 16 };
-    tri t;
-    tri_make(&t, N, 0, 1, 0);
-    t.di[N - 1] = 0;
-    double b[N], x[N] = {0};
-    for (int i = 0; i < N; i++) b[i] = 1;
-    kt_krylov_opts o = {1e-10, 10, 5000};
-    kt_krylov_stats st;
-    kt_err e = {0};
-    CHECK(kt_krylov_gmres(N, tri_apply, &t, NULL, NULL, b, x, &o, &st, &e) == KT_OK, "%s", e.msg);
-    CHECK(!st.converged && st.stagnated, "converged %d stagnated %d after %d", st.converged, st.stagnated, st.iters);
-    CHECK(st.iters < 5000, "stagnation not detected: %d iterations", st.iters);
-    int finite = 1;
-    for (int i = 0; i < N; i++) finite &= isfinite(x[i]);
-    CHECK(finite, "x has a non-finite entry");
-    CHECK_NEAR(st.relres, 1 / sqrt((double)N), 1e-10, "least-squares residual");
-    if (finite) CHECK(fabs(x[0] - 1) < 1e-10 && fabs(x[N - 2] - 1) < 1e-10, "x on the range: %g", x[0]);
-    CHECK_NEAR(relres(&t, b, x), st.relres, 1e-10, "reported relres is the true one");
-    tri_free(&t);
-}
-
-/* An operator that fails on call k: both solvers return its error and its message. */
+/* An operator that fails on call k: CG returns its error and its message. */
 static void test_operator_failure(void)
 {
     enum { N = 20 };
@@ -317,44 +162,22 @@ static void test_operator_failure(void)
         double xs[N], b[N], x[N] = {0};
         make_rhs(&t, xs, b);
         t.fail_at = when[w];
-        kt_krylov_opts o = {1e-12, 5, 1000};
+        kt_krylov_opts o = {1e-12, 1000};
         kt_krylov_stats st;
-        kt_err e = {0};
         char want[64];
         snprintf(want, sizeof want, "operator failed on call %d", when[w]);
-        CHECK(kt_krylov_gmres(N, tri_apply, &t, NULL, NULL, b, x, &o, &st, &e) == KT_ERUN &&
-              strcmp(e.msg, want) == 0 && !st.converged, "GMRES, failure at call %d: '%s'", when[w], e.msg);
-        CHECK(t.calls == when[w], "GMRES went on after the failure: %d calls", t.calls);
-        t.calls = 0;
-        memset(x, 0, sizeof x);
         kt_err e2 = {0};
         CHECK(kt_krylov_cg(N, tri_apply, &t, NULL, b, x, &o, &st, &e2) == KT_ERUN &&
               strcmp(e2.msg, want) == 0 && !st.converged, "CG, failure at call %d: '%s'", when[w], e2.msg);
         CHECK(t.calls == when[w], "CG went on after the failure: %d calls", t.calls);
         tri_free(&t);
     }
-    /* a failing preconditioner */
-    tri t;
-    tri_make(&t, N, -1, 2, -1);
-    tri m = t;
-    m.fail_at = 3;
-    double xs[N], b[N], x[N] = {0};
-    make_rhs(&t, xs, b);
-    kt_krylov_opts o = {1e-12, 5, 1000};
-    kt_krylov_stats st;
-    kt_err e = {0};
-    CHECK(kt_krylov_gmres(N, tri_apply, &t, tri_apply, &m, b, x, &o, &st, &e) == KT_ERUN &&
-          strstr(e.msg, "operator failed on call 3"), "failing preconditioner: '%s'", e.msg);
-    tri_free(&t);
 }
 
 int main(void)
 {
     test_cg_laplacian();
     test_cg_jacobi_and_three_eigenvalues();
-    test_gmres_nonsymmetric();
-    test_gmres_restart();
-    test_gmres_inconsistent();
     test_operator_failure();
     return kt_test_done("test_krylov");
 }
