@@ -26,7 +26,8 @@
 # tradeoff); --cases REGEX reruns only the solver runs whose EXP-MODEL-SIZE matches (e.g.
 # 'cut-bunny', '^lri-eye'), keeping the other rows of paper/steps.tsv (in the stability part:
 # the CASE-PARAM rows, e.g. '^nu-beam|^beam-length'); --methods LIST (e.g.
-# refactor+metis,augmented@1e-8) only those solver labels. --budget S: wall seconds per baseline run (CG, Jacobi-PCG; default
+# refactor+metis,augmented@1e-8) only those solver labels. --budget S: wall seconds per
+# baseline run (CG, Jacobi-PCG, and in the planned part refactor in mesh-prep's order; default
 # 240, x4 with --full). OPENBLAS_NUM_THREADS defaults to 1 (shared 2-core machines: two
 # OpenBLAS threads on a loaded machine were 10x slower here, see tests/bench/README.md).
 set -uo pipefail

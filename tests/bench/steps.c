@@ -85,6 +85,7 @@ static void row(const opts *o, const kt_aug *A, const char *status, const kt_aug
 {
     double nnz, tf;
     kt_aug_factor_info(A, &nnz, &tf);
+    if (!(nnz > 0) && w->nnz_L > 0) nnz = w->nnz_L; /* refactor: the step's fresh factor */
     /* a failed step never reached the total: add up what it measured */
     double tot = w->t_total;
     if (strcmp(status, "ok"))
