@@ -62,13 +62,12 @@ typedef struct kt_plan_factor {
     cholmod_sparse *A;          /* A_FF: the free block, lower triangle, in free positions */
     cholmod_factor *L;          /* L L^T = P A_FF P^T, P = L->Perm */
     cholmod_dense *w[2], *Y, *E;/* solve workspaces */
-    int *Tp, *Ti;               /* the trailing block L22 (columns and rows >= nK, shifted by */
-    double *Tx;                 /* nK), CSC, diagonal first: the increments' forward solve */
     double *y0, *bK0;           /* L^-1 P [bK0; 0] and the intact rows bK0 it was made from */
     int nshort;                 /* forward solves that took the increments-only path */
     unsigned char *want;        /* NULL, or the supernodes a restricted back substitution needs */
     int want_cols;              /* their columns */
-    double *rwork;              /* a supernode's rows: the restricted substitution's workspace */
+    double *rwork;              /* supernodal: a supernode's rows, the substitutions' workspace */
+    int rows_sorted;            /* 1: every supernode's row list is ascending */
     int nlift;                  /* A(i, j) with i or j constrained, both orientations: */
     int *lrow, *lcol;           /* variables */
     double *lval;
@@ -103,7 +102,16 @@ void kt_plan_factor_free(kt_plan_factor *F);
  * step's u is valid on the marked nodes only and it computes no residual and no reactions. */
 int kt_plan_factor_restrict(kt_plan_factor *F, const kt_plan *p, const unsigned char *nodes,
                             kt_err *e);
-void kt_plan_back_restricted(const kt_plan_factor *F, double *y);
+
+/* Substitutions on the factor in place (aug_plan_subst.c), vectors in L's numbering, rows >= N
+ * (the unreleased increments) zero on entry and left so. kt_plan_subst_init sets rwork and
+ * rows_sorted after the factorization. kt_plan_forward_trailing: y[nK..N) := L22^-1 y[nK..N),
+ * L22 the block of the increments (unit for a simplicial LDL^T). kt_plan_back (supernodal
+ * only): y[0..N) := L^-T y[0..N) on the supernodes F->want marks (all when NULL); the entries
+ * of the others are left as they were. */
+int kt_plan_subst_init(kt_plan_factor *F, kt_err *e);
+void kt_plan_forward_trailing(const kt_plan_factor *F, int N, double *y);
+void kt_plan_back(const kt_plan_factor *F, int N, double *y);
 
 /* The cut mesh as the steps go, its loads and the field. Owner: kt_plan_state_init / _free. */
 typedef struct kt_plan_state {

@@ -207,7 +207,8 @@ static int same_intact_rows(const kt_plan_factor *F, const double *b, double sca
 
 /* y = L^-1 P b: when the intact rows of b are those the stored y0 was made from, only the
  * increments' rows change: y = y0 + [0; L22^-1 b_I] (L22 unit-diagonal for LDL^T), computed
- * on the first N rows only. Else a full forward solve (the first one stores y0). */
+ * on the first N rows only, on the factor in place. Else a full forward solve (the first one
+ * stores y0). */
 static int forward(kt_plan_factor *F, int N, double *b, int shortcut, double scale, kt_err *e)
 {
     int nK = F->nK;
@@ -216,19 +217,10 @@ static int forward(kt_plan_factor *F, int N, double *b, int shortcut, double sca
     double *y = F->w[1]->x;
     if (shortcut && F->y0 && same_intact_rows(F, b, scale)) {
         F->nshort++;
-        memcpy(y, F->y0, (size_t)N * sizeof(double));
-        double *z = y + nK;
-        const double *bI = b + nK;
-        int unit = !F->L->is_ll;
-        for (int j = 0; j < N - nK; j++) z[j] = 0;
-        for (int j = 0; j < N - nK; j++) {
-            int p0 = F->Tp[j], p1 = F->Tp[j + 1];
-            double zj = (z[j] + bI[j]) / (unit ? 1.0 : F->Tx[p0]);
-            for (int p = p0 + 1; p < p1; p++)
-                if (F->Ti[p] < N - nK) z[F->Ti[p]] -= F->Tx[p] * zj;
-            z[j] = zj;
-        }
-        for (int j = 0; j < N - nK; j++) z[j] += F->y0[nK + j];
+        memcpy(y, F->y0, (size_t)nK * sizeof(double));
+        memcpy(y + nK, b + nK, (size_t)(N - nK) * sizeof(double));
+        kt_plan_forward_trailing(F, N, y);
+        for (int j = nK; j < N; j++) y[j] += F->y0[j];
         return KT_OK;
     }
     cholmod_dense B = wrap(b, F->nfree);
@@ -262,8 +254,8 @@ static int substitute(kt_plan_factor *F, int N, double *b, double *x, int shortc
     double *y = F->w[1]->x;
     memset(y + N, 0, (size_t)(F->nfree - N) * sizeof(double)); /* P keeps them in place */
     double t1 = kt_now();
-    if (F->want) { /* restricted output */
-        kt_plan_back_restricted(F, y);
+    if (F->L->is_super) { /* the released prefix, and the wanted supernodes */
+        kt_plan_back(F, N, y);
         const int *Perm = F->L->Perm;
         for (int q = 0; q < F->nfree; q++) x[Perm[q]] = y[q];
     } else {
