@@ -478,8 +478,10 @@ static int run_planned(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
         (*steps)++;
         if (r->want[k] && planned_step(r, o, e)) return e->code;
     }
-    kt_log(o->aug.quiet, "augsolve: planned: %d forward substitutions took the increments-only "
-           "path\n", r->F.nshort);
+    int later = 0;
+    for (int k = 1; k <= r->plan.nsteps; k++) later += r->want[k] != 0;
+    kt_log(o->aug.quiet, "augsolve: planned: %d of the %d steps after step 0 continued its forward "
+           "substitution (the others started it over)\n", r->F.ncont, later);
     return KT_OK;
 }
 

@@ -27,8 +27,8 @@ void kt_plan_factor_free(kt_plan_factor *F)
     free(F->lrow);
     free(F->lcol);
     free(F->lval);
-    free(F->y0);
-    free(F->bK0);
+    free(F->yf);
+    free(F->bf);
     free(F->want);
     free(F->rwork);
     memset(F, 0, sizeof *F);

@@ -43,48 +43,46 @@ int kt_plan_subst_init(kt_plan_factor *F, kt_err *e)
     return e->code;
 }
 
-/* Simplicial: columns j in [nK, N), the diagonal first; LDL^T keeps a unit L. */
-static void forward_trailing_simplicial(const kt_plan_factor *F, int N, double *y)
+/* Simplicial: columns c0..c1-1, the diagonal first; LDL^T keeps a unit L. */
+static void forward_simplicial(const cholmod_factor *L, int c0, int c1, double *y)
 {
-    const cholmod_factor *L = F->L;
     const int *Lp = L->p, *Li = L->i, *Lnz = L->nz;
     const double *Lx = L->x;
-    for (int j = F->nK; j < N; j++) {
+    for (int j = c0; j < c1; j++) {
         int p0 = Lp[j], p1 = Lp[j] + Lnz[j];
         double yj = L->is_ll ? y[j] / Lx[p0] : y[j];
         y[j] = yj;
-        for (int p = p0 + 1; p < p1; p++)
-            if (Li[p] < N) y[Li[p]] -= Lx[p] * yj;
+        for (int p = p0 + 1; p < p1; p++) y[Li[p]] -= Lx[p] * yj;
     }
 }
 
-void kt_plan_forward_trailing(const kt_plan_factor *F, int N, double *y)
+void kt_plan_forward(const kt_plan_factor *F, int c0, int c1, double *y)
 {
     const cholmod_factor *L = F->L;
     if (!L->is_super) {
-        forward_trailing_simplicial(F, N, y);
+        forward_simplicial(L, c0, c1, y);
         return;
     }
     const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
     const double *Lx = L->x;
     double *w = F->rwork;
-    int ns = (int)L->nsuper, s = ns;
-    while (s > 0 && S[s] > F->nK) s--; /* the first supernode ending after nK */
-    for (; s < ns && S[s] < N; s++) {
+    int ns = (int)L->nsuper, s = 0, lo = 0, hi = ns;
+    while (lo < hi) { /* s: the first supernode ending after c0 */
+        int mid = lo + (hi - lo) / 2;
+        if (S[mid + 1] <= c0) lo = mid + 1;
+        else hi = mid;
+    }
+    for (s = lo; s < ns && S[s] < c1; s++) {
         int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
-        int c0 = (k1 > F->nK ? k1 : F->nK) - k1, c1 = (k1 + nscol < N ? k1 + nscol : N) - k1;
-        const double *X = Lx + px[s];
-        double *top = y + k1 + c0;
-        cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, c1 - c0,
-                    X + c0 + (size_t)c0 * nsrow, nsrow, top, 1);
-        if (c1 < nscol) break; /* N falls inside s: every row below is unreleased */
-        int nr = rows_below(F, s, N);
-        if (nr == 0) continue;
-        cblas_dgemv(CblasColMajor, CblasNoTrans, nr, c1 - c0, 1.0, X + nscol + (size_t)c0 * nsrow,
-                    nsrow, top, 1, 0.0, w, 1);
-        const int *rows = Ls + pi[s] + nscol;
-        for (int q = 0; q < nr; q++)
-            if (rows[q] < N) y[rows[q]] -= w[q];
+        int a = (k1 > c0 ? k1 : c0) - k1, b = (k1 + nscol < c1 ? k1 + nscol : c1) - k1;
+        const double *X = Lx + px[s] + (size_t)a * nsrow;
+        double *top = y + k1 + a;
+        cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, b - a, X + a, nsrow, top, 1);
+        int nb = nsrow - b; /* rows below: s's own columns from b on, then its row list */
+        if (nb == 0) continue;
+        cblas_dgemv(CblasColMajor, CblasNoTrans, nb, b - a, 1.0, X + b, nsrow, top, 1, 0.0, w, 1);
+        const int *rows = Ls + pi[s];
+        for (int q = 0; q < nb; q++) y[rows[b + q]] -= w[q];
     }
 }
 

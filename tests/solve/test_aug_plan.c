@@ -183,6 +183,30 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
     }
     CHECK(e.code == KT_OK, "%s: %s", name, e.msg);
     CHECK(S.mesh.nn == p.nn, "%s: the last step reaches the final mesh", name);
+    /* the stream's loads move with the tets (its forces land on new nodes): every later step
+     * continues step 0's forward substitution */
+    CHECK(F.ncont == p.nsteps, "%s: %d of %d steps continued the forward substitution", name,
+          F.ncont, p.nsteps);
+    if (!e.code) { /* a load on rows it already consumed: it starts over, and stays exact */
+        int a = 0, nc = F.ncont;
+        while (a < p.nn0 && p.fixed[3 * a]) a++;
+        double fmax = 0;
+        for (int i = 0; i < 3 * S.mesh.nn; i++) {
+            double v = S.f[i] < 0 ? -S.f[i] : S.f[i];
+            if (v > fmax) fmax = v;
+        }
+        S.force[3 * a] += fmax;
+        CHECK(kt_plan_solve(&S, &p, &F, &s->prob, 1e-12, &e) == KT_OK &&
+                  kt_plan_fresh(&S, &p, &s->prob, ref, &(double){0}, &e) == KT_OK,
+              "%s: extra load: %s", name, e.msg);
+        unsigned char *on = only ? surface_nodes(&S.mesh, only) : NULL;
+        double d = diff_on(S.u, ref, on, S.mesh.nn);
+        free(on);
+        CHECK(F.ncont == nc && d <= 1e-10, "%s: extra load at node %d: continued %d -> %d, "
+              "planned vs fresh %.3g", name, a + 1, nc, F.ncont, d);
+        CHECK(kt_plan_solve(&S, &p, &F, &s->prob, 1e-12, &e) == KT_OK && F.ncont == nc + 1,
+              "%s: the same right-hand side again does not continue (%d)", name, F.ncont);
+    }
     if (!only) { /* a tolerance no rounding meets: one refinement step, then a loud failure */
         kt_err e2 = {0};
         CHECK(kt_plan_solve(&S, &p, &F, &s->prob, 1e-300, &e2) == KT_ERUN && S.row.iters == 1 &&
