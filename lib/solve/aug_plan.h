@@ -150,6 +150,11 @@ int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e);
  * one step of iterative refinement; still above it is KT_ERUN. */
 int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
                   const kt_aug_problem *prob, double tol, kt_err *e);
+/* A step that is not solved (augsolve --steps): its loads and right-hand side, and the plan's
+ * forward substitution continued over its columns, so that every later step's field is
+ * bitwise what it is when every step is solved. */
+int kt_plan_continue(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
+                     const kt_aug_problem *prob, kt_err *e);
 /* Solve the current cut mesh from scratch (assembly, METIS, factorization, solve: what a user
  * would run instead) into u (3 nn); t gets the seconds it took. The --verify reference. */
 int kt_plan_fresh(const kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,

@@ -311,16 +311,33 @@ static void field(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
             if (F->pos[3 * a + c] < 0) s->react[3 * p->parent[a] + c] -= s->react[3 * a + c];
 }
 
+/* The current step's loads and right-hand side s->b; *scale gets the largest load a variable
+ * sums. */
+static int step_rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+                    const kt_aug_problem *prob, double *scale, kt_err *e)
+{
+    if (loads(s, prob, e)) return e->code;
+    rhs(s, p, F);
+    *scale = 0;
+    for (int v = 0; v < 3 * s->mesh.nn; v++) *scale = fmax(*scale, fabs(s->tf[v]));
+    return KT_OK;
+}
+
+int kt_plan_continue(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
+                     const kt_aug_problem *prob, kt_err *e)
+{
+    double scale = 0;
+    if (step_rhs(s, p, F, prob, &scale, e)) return e->code;
+    return forward(F, F->nfree_at[s->step], s->b, 1, scale, e);
+}
+
 int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
                   const kt_aug_problem *prob, double tol, kt_err *e)
 {
-    double t0 = kt_now(), ts[2] = {0, 0};
+    double t0 = kt_now(), ts[2] = {0, 0}, scale = 0;
     kt_aug_row *w = &s->row;
     int N = F->nfree_at[s->step];
-    if (loads(s, prob, e)) return e->code;
-    rhs(s, p, F);
-    double scale = 0;
-    for (int v = 0; v < 3 * s->mesh.nn; v++) scale = fmax(scale, fabs(s->tf[v]));
+    if (step_rhs(s, p, F, prob, &scale, e)) return e->code;
     double t1 = kt_now();
     if (substitute(F, N, s->b, s->x, 1, scale, ts, e)) return e->code;
     double t2 = kt_now(), backward = 0, rel = NAN;
