@@ -6,7 +6,8 @@
  * Positions are L's (permuted) numbering. In a supernode s the first nscol rows are its own
  * columns S[s]..S[s+1]-1; the rest of its row list lies after them. When the row lists are
  * sorted (F->rows_sorted, checked at the build) the rows below a column that are released form
- * a prefix of the list, and the substitutions stop there. */
+ * a prefix of the list, and the back substitution stops there. The forward substitution
+ * updates every row below (the later rows keep the updates for the steps that release them). */
 #include "aug_plan.h"
 
 #include <cblas.h>
@@ -66,13 +67,13 @@ void kt_plan_forward(const kt_plan_factor *F, int c0, int c1, double *y)
     const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
     const double *Lx = L->x;
     double *w = F->rwork;
-    int ns = (int)L->nsuper, s = 0, lo = 0, hi = ns;
-    while (lo < hi) { /* s: the first supernode ending after c0 */
+    int ns = (int)L->nsuper, lo = 0, hi = ns;
+    while (lo < hi) { /* lo: the first supernode ending after c0 */
         int mid = lo + (hi - lo) / 2;
         if (S[mid + 1] <= c0) lo = mid + 1;
         else hi = mid;
     }
-    for (s = lo; s < ns && S[s] < c1; s++) {
+    for (int s = lo; s < ns && S[s] < c1; s++) {
         int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
         int a = (k1 > c0 ? k1 : c0) - k1, b = (k1 + nscol < c1 ? k1 + nscol : c1) - k1;
         const double *X = Lx + px[s] + (size_t)a * nsrow;
