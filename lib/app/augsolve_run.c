@@ -457,13 +457,19 @@ static int run_planned(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
            r->F.lnz_plan / r->F.lnz_ref, r->F.fl_plan / r->F.fl_ref, r->F.t_factor,
            r->F.t_assemble, r->F.t_order);
     if (planned_step(r, o, e)) return e->code;
+    int last = 0; /* the last step to write; a step before it that is not written still
+                     continues the forward substitution (bitwise the fields of a full run) */
+    for (int k = 1; k <= r->plan.nsteps; k++)
+        if (r->want[k]) last = k;
     for (int k = 1; k <= r->plan.nsteps; k++) {
         if (kt_plan_advance(&r->S, &r->plan, e)) return e->code;
         (*steps)++;
         if (r->want[k] && planned_step(r, o, e)) return e->code;
+        if (!r->want[k] && k < last && kt_plan_continue(&r->S, &r->plan, &r->F, &r->prob, e))
+            return e->code;
     }
-    kt_log(o->aug.quiet, "augsolve: planned: %d forward substitutions took the increments-only "
-           "path\n", r->F.nshort);
+    kt_log(o->aug.quiet, "augsolve: planned: %d of the %d steps after step 0 continued its forward "
+           "substitution (the others started it over)\n", r->F.ncont, last);
     return KT_OK;
 }
 

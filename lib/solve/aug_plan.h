@@ -62,13 +62,14 @@ typedef struct kt_plan_factor {
     cholmod_sparse *A;          /* A_FF: the free block, lower triangle, in free positions */
     cholmod_factor *L;          /* L L^T = P A_FF P^T, P = L->Perm */
     cholmod_dense *w[2], *Y, *E;/* solve workspaces */
-    int *Tp, *Ti;               /* the trailing block L22 (columns and rows >= nK, shifted by */
-    double *Tx;                 /* nK), CSC, diagonal first: the increments' forward solve */
-    double *y0, *bK0;           /* L^-1 P [bK0; 0] and the intact rows bK0 it was made from */
-    int nshort;                 /* forward solves that took the increments-only path */
+    double *yf, *bf;            /* the plan's forward substitution, continued step by step: */
+    int nf;                     /* yf[0..nf) solved from bf[0..nf) (L's numbering), later rows
+                                   hold the updates of those columns */
+    int ncont;                  /* steps that continued it (the others started it over) */
     unsigned char *want;        /* NULL, or the supernodes a restricted back substitution needs */
     int want_cols;              /* their columns */
-    double *rwork;              /* a supernode's rows: the restricted substitution's workspace */
+    double *rwork;              /* supernodal: a supernode's rows, the substitutions' workspace */
+    int rows_sorted;            /* 1: every supernode's row list is ascending */
     int nlift;                  /* A(i, j) with i or j constrained, both orientations: */
     int *lrow, *lcol;           /* variables */
     double *lval;
@@ -103,7 +104,20 @@ void kt_plan_factor_free(kt_plan_factor *F);
  * step's u is valid on the marked nodes only and it computes no residual and no reactions. */
 int kt_plan_factor_restrict(kt_plan_factor *F, const kt_plan *p, const unsigned char *nodes,
                             kt_err *e);
-void kt_plan_back_restricted(const kt_plan_factor *F, double *y);
+
+/* Substitutions on the factor in place (aug_plan_subst.c), vectors in L's numbering.
+ * kt_plan_subst_init sets rwork and rows_sorted after the factorization.
+ * kt_plan_forward continues a forward substitution over the columns c0..c1-1: on entry y[0..c0)
+ * is solved and every later row holds its right-hand side minus the updates of the columns
+ * before c0; on exit the same holds with c1 (rows >= c1 receive their updates, whatever they
+ * hold). So a forward substitution can be split at any column, and continued when more rows
+ * are released.
+ * kt_plan_back (supernodal only): y[0..N) := L^-T y[0..N), rows >= N (the unreleased
+ * increments) zero on entry and left so, on the supernodes F->want marks (all when NULL); the
+ * entries of the others are left as they were. */
+int kt_plan_subst_init(kt_plan_factor *F, kt_err *e);
+void kt_plan_forward(const kt_plan_factor *F, int c0, int c1, double *y);
+void kt_plan_back(const kt_plan_factor *F, int N, double *y);
 
 /* The cut mesh as the steps go, its loads and the field. Owner: kt_plan_state_init / _free. */
 typedef struct kt_plan_state {
@@ -136,6 +150,11 @@ int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e);
  * one step of iterative refinement; still above it is KT_ERUN. */
 int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
                   const kt_aug_problem *prob, double tol, kt_err *e);
+/* A step that is not solved (augsolve --steps): its loads and right-hand side, and the plan's
+ * forward substitution continued over its columns, so that every later step's field is
+ * bitwise what it is when every step is solved. */
+int kt_plan_continue(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
+                     const kt_aug_problem *prob, kt_err *e);
 /* Solve the current cut mesh from scratch (assembly, METIS, factorization, solve: what a user
  * would run instead) into u (3 nn); t gets the seconds it took. The --verify reference. */
 int kt_plan_fresh(const kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,

@@ -27,11 +27,8 @@ void kt_plan_factor_free(kt_plan_factor *F)
     free(F->lrow);
     free(F->lcol);
     free(F->lval);
-    free(F->Tp);
-    free(F->Ti);
-    free(F->Tx);
-    free(F->y0);
-    free(F->bK0);
+    free(F->yf);
+    free(F->bf);
     free(F->want);
     free(F->rwork);
     memset(F, 0, sizeof *F);
@@ -270,61 +267,6 @@ static int factorize(kt_plan_factor *F, const int *P, int factor, double max_rat
     return KT_OK;
 }
 
-/* Column j of L (permuted numbering): its rows and values, the diagonal first. */
-typedef struct lcol {
-    int n;
-    const int *i;     /* simplicial: rows; supernodal: NULL, rows k1 + q then s[] */
-    const double *x;
-    int k1, q0;       /* supernodal: first column of the supernode, offset of j in it */
-    const int *s;     /* supernodal: the supernode's row list */
-} lcol;
-
-static lcol column(const cholmod_factor *L, int j, int *sup)
-{
-    lcol c = {0};
-    if (!L->is_super) {
-        const int *Lp = L->p, *Lnz = L->nz;
-        c.n = Lnz[j];
-        c.i = (const int *)L->i + Lp[j];
-        c.x = (const double *)L->x + Lp[j];
-        return c;
-    }
-    const int *S = L->super, *pi = L->pi, *px = L->px;
-    while (S[*sup + 1] <= j) (*sup)++;
-    int s = *sup, nsrow = pi[s + 1] - pi[s];
-    c.k1 = S[s];
-    c.q0 = j - S[s];
-    c.n = nsrow - c.q0;
-    c.s = (const int *)L->s + pi[s] + c.q0;
-    c.x = (const double *)L->x + px[s] + (size_t)c.q0 * nsrow + c.q0;
-    return c;
-}
-
-/* L22, the columns of the increments, for their forward solve. */
-static int trailing_block(kt_plan_factor *F, kt_err *e)
-{
-    const cholmod_factor *L = F->L;
-    int nt = F->nfree - F->nK, sup = 0;
-    size_t nz = 0;
-    for (int j = F->nK; j < F->nfree; j++) nz += (size_t)column(L, j, &sup).n;
-    F->Tp = kt_calloc((size_t)nt + 1, sizeof(int), e);
-    F->Ti = kt_calloc(nz ? nz : 1, sizeof(int), e);
-    F->Tx = kt_calloc(nz ? nz : 1, sizeof(double), e);
-    if (e->code) return e->code;
-    size_t k = 0;
-    sup = 0;
-    for (int j = F->nK; j < F->nfree; j++) {
-        lcol c = column(L, j, &sup);
-        F->Tp[j - F->nK] = (int)k;
-        for (int q = 0; q < c.n; q++, k++) {
-            F->Ti[k] = (c.i ? c.i[q] : c.s[q]) - F->nK;
-            F->Tx[k] = c.x[q];
-        }
-    }
-    F->Tp[nt] = (int)k;
-    return KT_OK;
-}
-
 int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
                          const kt_materials *mats, int ordering, int factor, double max_ratio,
                          kt_err *e)
@@ -338,7 +280,8 @@ int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *fin
     int *P = order(F, ordering, e);
     if (!P) return e->code;
     double t1 = kt_now();
-    if (factorize(F, P, factor, max_ratio, p->nsteps, e) == KT_OK && !F->refused) trailing_block(F, e);
+    if (factorize(F, P, factor, max_ratio, p->nsteps, e) == KT_OK && !F->refused)
+        kt_plan_subst_init(F, e);
     free(P);
     F->t_order = t1 - t0;
     F->t_factor = kt_now() - t1;

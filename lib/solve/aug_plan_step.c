@@ -171,18 +171,6 @@ static void rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
     }
 }
 
-static cholmod_dense wrap(double *x, int n)
-{
-    cholmod_dense d;
-    memset(&d, 0, sizeof d);
-    d.nrow = d.nzmax = d.d = (size_t)n;
-    d.ncol = 1;
-    d.x = x;
-    d.xtype = CHOLMOD_REAL;
-    d.dtype = CHOLMOD_DOUBLE;
-    return d;
-}
-
 static int solve_sys(kt_plan_factor *F, int sys, cholmod_dense *in, cholmod_dense **out, kt_err *e)
 {
     if (!cholmod_solve2(sys, F->L, in, NULL, out, NULL, &F->Y, &F->E, &F->c))
@@ -190,80 +178,73 @@ static int solve_sys(kt_plan_factor *F, int sys, cholmod_dense *in, cholmod_dens
     return KT_OK;
 }
 
-/* Whether the intact rows of b are those y0 was made from, up to rounding: within
- * SAME_ROUNDING x eps x scale (scale: the largest load a variable sums, |T^T f|). Mathematically
- * they are the same whenever the loads move with the tets (pressures, prestress release): each
- * intact variable sums its node's and its descendants' loads, which a cut only regroups; the
- * sums in another order differ by rounding. Using b_K0 then solves for a right-hand side off by
- * that much, which the backward-error check of the step (against the step's own b) counts. */
+/* Whether rows 0..nf-1 of P b are those the plan's forward substitution consumed, up to
+ * rounding: within SAME_ROUNDING x eps x scale (scale: the largest load a variable sums,
+ * |T^T f|). Mathematically they are the same whenever the loads move with the tets (pressures,
+ * prestress release): a variable sums its node's and its descendants' loads, which a cut only
+ * regroups (an increment released earlier already summed the loads of the tets its unreleased
+ * descendants will take); the sums in another order differ by rounding. The substitution then
+ * solves for a right-hand side off by that much, which the backward-error check of the step
+ * (against the step's own b) counts. */
 enum { SAME_ROUNDING = 64 };
-static int same_intact_rows(const kt_plan_factor *F, const double *b, double scale)
+static int same_rows(const kt_plan_factor *F, const double *b, double scale)
 {
+    const int *Perm = F->L->Perm;
     double tol = SAME_ROUNDING * DBL_EPSILON * scale;
-    for (int i = 0; i < F->nK; i++)
-        if (!(fabs(b[i] - F->bK0[i]) <= tol)) return 0;
+    for (int q = 0; q < F->nf; q++)
+        if (!(fabs(b[Perm[q]] - F->bf[q]) <= tol)) return 0;
     return 1;
 }
 
-/* y = L^-1 P b: when the intact rows of b are those the stored y0 was made from, only the
- * increments' rows change: y = y0 + [0; L22^-1 b_I] (L22 unit-diagonal for LDL^T), computed
- * on the first N rows only. Else a full forward solve (the first one stores y0). */
-static int forward(kt_plan_factor *F, int N, double *b, int shortcut, double scale, kt_err *e)
+/* y = L^-1 P b on the first N rows (F->w[1]; later rows are not meaningful). A step's
+ * right-hand side (plan = 1) continues the plan's forward substitution F->yf over the rows it
+ * releases (the columns nf..N-1 only) when the rows already consumed agree with b's, else starts
+ * it over; a refinement's (plan = 0) is a forward substitution of its own. */
+static int forward(kt_plan_factor *F, int N, const double *b, int plan, double scale, kt_err *e)
 {
-    int nK = F->nK;
     if (!F->w[1] && !(F->w[1] = cholmod_zeros(F->nfree, 1, CHOLMOD_REAL, &F->c)))
         return kt_fail(e, KT_ERUN, "CHOLMOD out of memory");
     double *y = F->w[1]->x;
-    if (shortcut && F->y0 && same_intact_rows(F, b, scale)) {
-        F->nshort++;
-        memcpy(y, F->y0, (size_t)N * sizeof(double));
-        double *z = y + nK;
-        const double *bI = b + nK;
-        int unit = !F->L->is_ll;
-        for (int j = 0; j < N - nK; j++) z[j] = 0;
-        for (int j = 0; j < N - nK; j++) {
-            int p0 = F->Tp[j], p1 = F->Tp[j + 1];
-            double zj = (z[j] + bI[j]) / (unit ? 1.0 : F->Tx[p0]);
-            for (int p = p0 + 1; p < p1; p++)
-                if (F->Ti[p] < N - nK) z[F->Ti[p]] -= F->Tx[p] * zj;
-            z[j] = zj;
-        }
-        for (int j = 0; j < N - nK; j++) z[j] += F->y0[nK + j];
+    const int *Perm = F->L->Perm;
+    if (!plan) {
+        for (int q = 0; q < F->nfree; q++) y[q] = q < N ? b[Perm[q]] : 0;
+        kt_plan_forward(F, 0, N, y);
         return KT_OK;
     }
-    cholmod_dense B = wrap(b, F->nfree);
-    if (shortcut && !F->y0) { /* the first right-hand side: keep L^-1 P [b_K; 0] */
-        F->y0 = kt_calloc((size_t)F->nfree, sizeof(double), e);
-        F->bK0 = kt_calloc((size_t)nK ? (size_t)nK : 1, sizeof(double), e);
+    if (!F->yf) {
+        F->yf = kt_calloc((size_t)F->nfree, sizeof(double), e);
+        F->bf = kt_calloc((size_t)F->nfree, sizeof(double), e);
         if (e->code) return e->code;
-        memcpy(F->y0, b, (size_t)nK * sizeof(double));
-        memcpy(F->bK0, b, (size_t)nK * sizeof(double));
-        cholmod_dense B0 = wrap(F->y0, F->nfree);
-        if (solve_sys(F, CHOLMOD_P, &B0, &F->w[0], e) || solve_sys(F, CHOLMOD_L, F->w[0], &F->w[1], e))
-            return e->code;
-        memcpy(F->y0, F->w[1]->x, (size_t)F->nfree * sizeof(double));
-        int rc = forward(F, N, b, shortcut, scale, e);
-        F->nshort--; /* the step that made y0 did the full forward solve */
-        return rc;
     }
-    if (solve_sys(F, CHOLMOD_P, &B, &F->w[0], e) || solve_sys(F, CHOLMOD_L, F->w[0], &F->w[1], e))
-        return e->code;
+    if (F->nf > 0 && F->nf <= N && same_rows(F, b, scale)) {
+        F->ncont++;
+    } else {
+        F->nf = 0;
+        memset(F->yf, 0, (size_t)F->nfree * sizeof(double));
+    }
+    for (int q = F->nf; q < N; q++) {
+        F->bf[q] = b[Perm[q]];
+        F->yf[q] += F->bf[q];
+    }
+    kt_plan_forward(F, F->nf, N, F->yf);
+    F->nf = N;
+    memcpy(y, F->yf, (size_t)N * sizeof(double));
     return KT_OK;
 }
 
-/* x = A_k^-1 b on the first N free positions, 0 after: forward, the rows of the unreleased
- * increments zeroed, L^T (D L^T for LDL^T), P^T. t[0..1] += forward, back (s); t[2] counts the
- * forward solves that took the increments-only path. */
-static int substitute(kt_plan_factor *F, int N, double *b, double *x, int shortcut, double scale,
-                      double *t, kt_err *e)
+/* x = A_k^-1 b on the first N free positions, 0 after: forward (plan: continuing the plan's),
+ * the rows of the unreleased increments zeroed, L^T (D L^T for LDL^T), P^T. t[0..1] +=
+ * forward, back (s). */
+static int substitute(kt_plan_factor *F, int N, const double *b, double *x, int plan,
+                      double scale, double *t, kt_err *e)
 {
     double t0 = kt_now();
-    if (forward(F, N, b, shortcut, scale, e)) return e->code;
+    if (forward(F, N, b, plan, scale, e)) return e->code;
     double *y = F->w[1]->x;
     memset(y + N, 0, (size_t)(F->nfree - N) * sizeof(double)); /* P keeps them in place */
     double t1 = kt_now();
-    if (F->want) { /* restricted output */
-        kt_plan_back_restricted(F, y);
+    if (F->L->is_super) { /* the released prefix, and the wanted supernodes */
+        kt_plan_back(F, N, y);
         const int *Perm = F->L->Perm;
         for (int q = 0; q < F->nfree; q++) x[Perm[q]] = y[q];
     } else {
@@ -330,16 +311,33 @@ static void field(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
             if (F->pos[3 * a + c] < 0) s->react[3 * p->parent[a] + c] -= s->react[3 * a + c];
 }
 
+/* The current step's loads and right-hand side s->b; *scale gets the largest load a variable
+ * sums. */
+static int step_rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+                    const kt_aug_problem *prob, double *scale, kt_err *e)
+{
+    if (loads(s, prob, e)) return e->code;
+    rhs(s, p, F);
+    *scale = 0;
+    for (int v = 0; v < 3 * s->mesh.nn; v++) *scale = fmax(*scale, fabs(s->tf[v]));
+    return KT_OK;
+}
+
+int kt_plan_continue(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
+                     const kt_aug_problem *prob, kt_err *e)
+{
+    double scale = 0;
+    if (step_rhs(s, p, F, prob, &scale, e)) return e->code;
+    return forward(F, F->nfree_at[s->step], s->b, 1, scale, e);
+}
+
 int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
                   const kt_aug_problem *prob, double tol, kt_err *e)
 {
-    double t0 = kt_now(), ts[2] = {0, 0};
+    double t0 = kt_now(), ts[2] = {0, 0}, scale = 0;
     kt_aug_row *w = &s->row;
     int N = F->nfree_at[s->step];
-    if (loads(s, prob, e)) return e->code;
-    rhs(s, p, F);
-    double scale = 0;
-    for (int v = 0; v < 3 * s->mesh.nn; v++) scale = fmax(scale, fabs(s->tf[v]));
+    if (step_rhs(s, p, F, prob, &scale, e)) return e->code;
     double t1 = kt_now();
     if (substitute(F, N, s->b, s->x, 1, scale, ts, e)) return e->code;
     double t2 = kt_now(), backward = 0, rel = NAN;

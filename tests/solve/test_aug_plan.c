@@ -131,7 +131,7 @@ static void check_frobenius(const kt_plan_factor *F, int nsteps, const char *nam
 /* Every step of the plan against a fresh factorization (only on the surface group "only" when
  * given: the restricted back substitution); returns the steps checked. */
 static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *only,
-                    const char *name)
+                    int unsorted, const char *name)
 {
     kt_err e = {0};
     kt_plan p;
@@ -147,6 +147,7 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
     CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, ordering, factor, KT_PLAN_MAX_RATIO,
                                &e) == KT_OK && !F.refused,
           "%s: factor: %s %s", name, e.msg, F.why);
+    if (unsorted) F.rows_sorted = 0; /* the substitutions' path for unsorted row lists */
     CHECK(kt_plan_state_init(&S, &p, &s->prob, &e) == KT_OK, "%s: state: %s", name, e.msg);
     check_frobenius(&F, p.nsteps, name);
     if (only) {
@@ -182,6 +183,30 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
     }
     CHECK(e.code == KT_OK, "%s: %s", name, e.msg);
     CHECK(S.mesh.nn == p.nn, "%s: the last step reaches the final mesh", name);
+    /* the stream's loads move with the tets (its forces land on new nodes): every later step
+     * continues step 0's forward substitution */
+    CHECK(F.ncont == p.nsteps, "%s: %d of %d steps continued the forward substitution", name,
+          F.ncont, p.nsteps);
+    if (!e.code) { /* a load on rows it already consumed: it starts over, and stays exact */
+        int a = 0, nc = F.ncont;
+        while (a < p.nn0 && p.fixed[3 * a]) a++;
+        double fmax = 0;
+        for (int i = 0; i < 3 * S.mesh.nn; i++) {
+            double v = S.f[i] < 0 ? -S.f[i] : S.f[i];
+            if (v > fmax) fmax = v;
+        }
+        S.force[3 * a] += fmax;
+        CHECK(kt_plan_solve(&S, &p, &F, &s->prob, 1e-12, &e) == KT_OK &&
+                  kt_plan_fresh(&S, &p, &s->prob, ref, &(double){0}, &e) == KT_OK,
+              "%s: extra load: %s", name, e.msg);
+        unsigned char *on = only ? surface_nodes(&S.mesh, only) : NULL;
+        double d = diff_on(S.u, ref, on, S.mesh.nn);
+        free(on);
+        CHECK(F.ncont == nc && d <= 1e-10, "%s: extra load at node %d: continued %d -> %d, "
+              "planned vs fresh %.3g", name, a + 1, nc, F.ncont, d);
+        CHECK(kt_plan_solve(&S, &p, &F, &s->prob, 1e-12, &e) == KT_OK && F.ncont == nc + 1,
+              "%s: the same right-hand side again does not continue (%d)", name, F.ncont);
+    }
     if (!only) { /* a tolerance no rounding meets: one refinement step, then a loud failure */
         kt_err e2 = {0};
         CHECK(kt_plan_solve(&S, &p, &F, &s->prob, 1e-300, &e2) == KT_ERUN && S.row.iters == 1 &&
@@ -275,7 +300,7 @@ static void check_size_refusal(scenario *s, FILE *f)
     CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
                                KT_AUG_FACTOR_SUPERNODAL, 0.99 * r, &e) == KT_OK,
           "size: refusal is no error: %s", e.msg);
-    CHECK(F.refused && F.nnzL == 0 && !F.Tp && strstr(F.why, "--plan-max-ratio"),
+    CHECK(F.refused && F.nnzL == 0 && !F.rwork && strstr(F.why, "--plan-max-ratio"),
           "size: ratio %g not refused at %g (why '%s')", r, 0.99 * r, F.why);
     kt_plan_factor_free(&F);
     CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
@@ -296,13 +321,16 @@ int main(void)
     int nsteps = 0;
     CHECK(write_stream(&s, f, &nsteps, &e) == KT_OK, "stream: %s", e.msg);
     CHECK(nsteps == s.nz + 1, "stream: %d steps", nsteps);
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, NULL, "metis supernodal") ==
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, NULL, 0, "metis supernodal") ==
               nsteps + 1, "metis supernodal: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_NATURAL, KT_AUG_FACTOR_SIMPLICIAL, NULL,
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_NATURAL, KT_AUG_FACTOR_SIMPLICIAL, NULL, 0,
                    "natural simplicial") == nsteps + 1, "natural simplicial: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_AMD, KT_AUG_FACTOR_SUPERNODAL, NULL, "amd supernodal") ==
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_AMD, KT_AUG_FACTOR_SUPERNODAL, NULL, 0, "amd supernodal") ==
               nsteps + 1, "amd supernodal: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, "zmax", "zmax only") ==
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, NULL, 1,
+                   "metis supernodal, rows read unsorted") == nsteps + 1,
+          "metis supernodal, rows read unsorted: not every step checked");
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, "zmax", 0, "zmax only") ==
               nsteps + 1, "zmax only: not every step checked");
     check_size_refusal(&s, f);
     fclose(f);

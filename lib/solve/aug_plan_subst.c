@@ -1,0 +1,110 @@
+/* aug_plan_subst.c: the planned method's substitutions with the factor of the final matrix,
+ * limited to what a step reads: the released prefix of the variables (positions [0, N); the
+ * rest are zero in every step) and, for restricted output, the wanted supernodes. They work
+ * on the factor in place (no copy of any block) with BLAS 2 per supernode.
+ *
+ * Positions are L's (permuted) numbering. In a supernode s the first nscol rows are its own
+ * columns S[s]..S[s+1]-1; the rest of its row list lies after them. When the row lists are
+ * sorted (F->rows_sorted, checked at the build) the rows below a column that are released form
+ * a prefix of the list, and the back substitution stops there. The forward substitution
+ * updates every row below (the later rows keep the updates for the steps that release them). */
+#include "aug_plan.h"
+
+#include <cblas.h>
+
+/* Rows of supernode s's row list after its own columns that are < N. */
+static int rows_below(const kt_plan_factor *F, int s, int N)
+{
+    const cholmod_factor *L = F->L;
+    const int *S = L->super, *pi = L->pi, *Ls = L->s;
+    int nscol = S[s + 1] - S[s], lo = pi[s] + nscol, hi = pi[s + 1];
+    if (!F->rows_sorted) return hi - lo; /* the unreleased rows are zero in the vector */
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (Ls[mid] < N) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo - (pi[s] + nscol);
+}
+
+int kt_plan_subst_init(kt_plan_factor *F, kt_err *e)
+{
+    const cholmod_factor *L = F->L;
+    F->rows_sorted = 1;
+    if (!L->is_super) return KT_OK;
+    const int *S = L->super, *pi = L->pi, *Ls = L->s;
+    int maxrow = 1;
+    for (int s = 0; s < (int)L->nsuper; s++) {
+        int nscol = S[s + 1] - S[s];
+        if (pi[s + 1] - pi[s] > maxrow) maxrow = pi[s + 1] - pi[s];
+        for (int q = pi[s] + nscol + 1; q < pi[s + 1]; q++)
+            if (Ls[q] <= Ls[q - 1]) F->rows_sorted = 0;
+    }
+    F->rwork = kt_calloc((size_t)maxrow, sizeof(double), e);
+    return e->code;
+}
+
+/* Simplicial: columns c0..c1-1, the diagonal first; LDL^T keeps a unit L. */
+static void forward_simplicial(const cholmod_factor *L, int c0, int c1, double *y)
+{
+    const int *Lp = L->p, *Li = L->i, *Lnz = L->nz;
+    const double *Lx = L->x;
+    for (int j = c0; j < c1; j++) {
+        int p0 = Lp[j], p1 = Lp[j] + Lnz[j];
+        double yj = L->is_ll ? y[j] / Lx[p0] : y[j];
+        y[j] = yj;
+        for (int p = p0 + 1; p < p1; p++) y[Li[p]] -= Lx[p] * yj;
+    }
+}
+
+void kt_plan_forward(const kt_plan_factor *F, int c0, int c1, double *y)
+{
+    const cholmod_factor *L = F->L;
+    if (!L->is_super) {
+        forward_simplicial(L, c0, c1, y);
+        return;
+    }
+    const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
+    const double *Lx = L->x;
+    double *w = F->rwork;
+    int ns = (int)L->nsuper, lo = 0, hi = ns;
+    while (lo < hi) { /* lo: the first supernode ending after c0 */
+        int mid = lo + (hi - lo) / 2;
+        if (S[mid + 1] <= c0) lo = mid + 1;
+        else hi = mid;
+    }
+    for (int s = lo; s < ns && S[s] < c1; s++) {
+        int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
+        int a = (k1 > c0 ? k1 : c0) - k1, b = (k1 + nscol < c1 ? k1 + nscol : c1) - k1;
+        const double *X = Lx + px[s] + (size_t)a * nsrow;
+        double *top = y + k1 + a;
+        cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, b - a, X + a, nsrow, top, 1);
+        int nb = nsrow - b; /* rows below: s's own columns from b on, then its row list */
+        if (nb == 0) continue;
+        cblas_dgemv(CblasColMajor, CblasNoTrans, nb, b - a, 1.0, X + b, nsrow, top, 1, 0.0, w, 1);
+        const int *rows = Ls + pi[s];
+        for (int q = 0; q < nb; q++) y[rows[b + q]] -= w[q];
+    }
+}
+
+void kt_plan_back(const kt_plan_factor *F, int N, double *y)
+{
+    const cholmod_factor *L = F->L;
+    const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
+    const double *Lx = L->x;
+    double *w = F->rwork;
+    for (int s = (int)L->nsuper - 1; s >= 0; s--) {
+        int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
+        if (k1 >= N || (F->want && !F->want[s])) continue;
+        int nc = k1 + nscol < N ? nscol : N - k1;
+        const double *X = Lx + px[s];
+        double *top = y + k1;
+        int nr = nc < nscol ? 0 : rows_below(F, s, N);
+        if (nr > 0) {
+            const int *rows = Ls + pi[s] + nscol;
+            for (int q = 0; q < nr; q++) w[q] = y[rows[q]];
+            cblas_dgemv(CblasColMajor, CblasTrans, nr, nc, -1.0, X + nscol, nsrow, w, 1, 1.0, top, 1);
+        }
+        cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, nc, X, nsrow, top, 1);
+    }
+}
