@@ -26,7 +26,8 @@
 # tradeoff); --cases REGEX reruns only the solver runs whose EXP-MODEL-SIZE matches (e.g.
 # 'cut-bunny', '^lri-eye'), keeping the other rows of paper/steps.tsv (in the stability part:
 # the CASE-PARAM rows, e.g. '^nu-beam|^beam-length'); --methods LIST (e.g.
-# refactor+metis,augmented@1e-8) only those solver labels. --budget S: wall seconds per baseline run (CG, Jacobi-PCG; default
+# refactor+metis,augmented@1e-8) only those solver labels. --budget S: wall seconds per
+# baseline run (CG, Jacobi-PCG, and in the planned part refactor in mesh-prep's order; default
 # 240, x4 with --full). OPENBLAS_NUM_THREADS defaults to 1 (shared 2-core machines: two
 # OpenBLAS threads on a loaded machine were 10x slower here, see tests/bench/README.md).
 set -uo pipefail
@@ -987,7 +988,9 @@ part_stability() {
 # ================================================================== part: planned
 # Issue 11: per case, the planned method (augsolve's default) and what a user would run instead,
 # each over the whole plan in its own run: planned (peak memory, whole plan), refactor with
-# METIS (the reference), refactor in mesh-prep's order, Jacobi-PCG (bench_steps, wall budget);
+# METIS (the reference), refactor in mesh-prep's order and Jacobi-PCG (both in bench_steps, the
+# library calls augsolve makes on the problem augsolve builds, under the wall budget --budget:
+# a step begun before it is spent runs to its end, the later ones are "budget" rows);
 # then planned --verify (a fresh METIS factorization after each step in the same process: the
 # ratio under the same load, and the accuracy; --verify-tol 1e-10, 1e-6 on the beam, where two
 # fresh direct factorizations already differ by ~4e-6: condition ~3e12) and, where the case has an
@@ -1008,14 +1011,14 @@ planned_case() { # CASE MESH EDITS SET VERIFY_TOL
         case $lab in
             planned) ;;
             refactor+metis) args=(--method refactor --ordering metis) ;;
-            refactor) args=(--method refactor) ;;
             planned-verify) args=(--verify --verify-tol "$vtol") ;;
             planned-output) [ "$set" = - ] && continue; args=(--output "$set" --verify --verify-tol "$vtol") ;;
         esac
         log "  $c: $lab"
-        if [ $lab = pcg-jacobi ]; then
-            run "$name" "$T_RUN" "$B/bench_steps" "$msh" "$ed" --method pcg-jacobi --keep-going \
-                --budget "$BUDGET_CG"
+        if [ $lab = pcg-jacobi ] || [ $lab = refactor ]; then
+            # the budget bounds the steps begun; timeout(1) the run (one step may overrun it)
+            run "$name" "$((${BUDGET_CG%.*} + T_RUN))" "$B/bench_steps" "$msh" "$ed" --method "$lab" \
+                --keep-going --budget "$BUDGET_CG"
             [ -s "$LOGS/$name.out" ] && tables+=("$lab=$LOGS/$name.out,$LOGS/$name.time")
             continue
         fi
@@ -1037,10 +1040,13 @@ part_planned() {
     run stream-planned 600 "$B/bench_stream" --mb 256 --trials 5 --threads 1 &&
         BW=$(awk -F'\t' 'NR == 2 { print $5 }' "$LOGS/stream-planned.out")
     log "  STREAM triad: ${BW:-?} GB/s (1 thread)"
-    prep_box beam $HEAD_BEAM &&
+    # --cases REGEX: only the selected cases' meshes are made
+    picked() { [ -z "$CASES" ] || [[ $1 =~ $CASES ]]; }
+    picked beam-5x5x$HEAD_BEAM && prep_box beam $HEAD_BEAM &&
         planned_case beam-5x5x$HEAD_BEAM "$MESHES/beam-$HEAD_BEAM.msh" "$EDITS/cut-beam-$HEAD_BEAM.edits" zmax 1e-6
-    [ $WITH_EYE = 1 ] && prep_eye && planned_case eye "$MESHES/eye.msh" "$EDITS/lri-eye.edits" anterior 1e-10
-    [ $WITH_BUNNY = 1 ] && prep_bunny &&
+    [ $WITH_EYE = 1 ] && picked eye && prep_eye &&
+        planned_case eye "$MESHES/eye.msh" "$EDITS/lri-eye.edits" anterior 1e-10
+    [ $WITH_BUNNY = 1 ] && picked bunny && prep_bunny &&
         planned_case bunny "$MESHES/bunny-snapped.msh" "$EDITS/cut-bunny.edits" - 1e-10
     local f
     : >"$D/planned.md"

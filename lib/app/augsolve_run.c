@@ -129,37 +129,21 @@ static int open_edits(run *r, const char *path, const char *mesh, kt_err *e)
     return KT_OK;
 }
 
-/* Fibre matrices and, for a prestressed scene, the prestress of the measured geometry (one
- * direct solve); its steps are then increments from the loaded state, so the prescribed values
- * (already in the prestress) become zero. */
-static int build_physics(run *r, kt_err *e)
-{
-    cholmod_common c;
-    cholmod_start(&c);
-    int rc = kt_physics_build(&r->scene, &r->mesh, &r->fem, &r->phys, &c, e);
-    cholmod_finish(&c);
-    if (rc) return rc;
-    if (r->phys.prestressed) {
-        memset(r->fem.g, 0, 3 * (size_t)r->mesh.nn * sizeof(double));
-        for (int k = 0; k < r->fem.nfix; k++) memset(r->fem.fix[k].v, 0, sizeof r->fem.fix[k].v);
-        kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
-               "apex membrane stress %.4g kPa\n", r->phys.t_build, 1000 * r->phys.sig_apex);
-    }
-    return KT_OK;
-}
-
-/* Materials, fixation and pressures of the scene on this mesh. */
+/* Materials, fixation and pressures of the scene on this mesh, with its physics (fibre
+ * matrices, the prestress of the measured geometry): kt_physics_problem. */
 static int load_problem(run *r, const char *scene, kt_err *e)
 {
     if (!scene || !scene[0])
         return kt_fail(e, KT_EINPUT, "%s: the edits header names no scene: give --scene",
                        r->rd.name);
     abs_path(scene, r->scene_path, sizeof r->scene_path);
-    if (kt_scene_load(scene, &r->scene, e) || kt_fem_bind(&r->scene, &r->mesh, &r->fem, e))
+    if (kt_scene_load(scene, &r->scene, e) ||
+        kt_physics_problem(&r->scene, &r->mesh, &r->fem, &r->phys, e))
         return e->code;
-    if (build_physics(r, e)) return e->code;
-    r->prob = (kt_aug_problem){&r->mesh, &r->fem.mats, r->fem.fixed, r->fem.g, r->fem.npress,
-                               r->fem.press, r->fem.nfix, r->fem.fix};
+    if (r->phys.prestressed)
+        kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
+               "apex membrane stress %.4g kPa\n", r->phys.t_build, 1000 * r->phys.sig_apex);
+    r->prob = kt_aug_problem_of(&r->mesh, &r->fem);
     return KT_OK;
 }
 

@@ -114,3 +114,24 @@ int kt_physics_build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt
     ph->t_build = kt_now() - t0;
     return KT_OK;
 }
+
+int kt_physics_problem(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                       kt_err *e)
+{
+    memset(ph, 0, sizeof *ph);
+    if (kt_fem_bind(s, m, fp, e)) return e->code;
+    cholmod_common c;
+    cholmod_start(&c);
+    kt_physics_build(s, m, fp, ph, &c, e);
+    cholmod_finish(&c);
+    if (e->code) {
+        kt_physics_free(ph);
+        kt_fem_problem_free(fp);
+        return e->code;
+    }
+    if (ph->prestressed) {
+        memset(fp->g, 0, 3 * (size_t)m->nn * sizeof(double));
+        for (int k = 0; k < fp->nfix; k++) memset(fp->fix[k].v, 0, sizeof fp->fix[k].v);
+    }
+    return KT_OK;
+}

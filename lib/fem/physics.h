@@ -25,4 +25,12 @@ int kt_physics_build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt
                      cholmod_common *c, kt_err *e);
 void kt_physics_free(kt_physics *ph);
 
+/* The elasticity problem augsolve solves for scene s on mesh m, for every program that must
+ * solve the same one (augsolve, the benchmarks): fp := kt_fem_bind(s, m), ph :=
+ * kt_physics_build; for a prestressed scene the steps are increments from the loaded state, so
+ * the prescribed values (already in the prestress) become zero: fp->g and fp->fix[k].v.
+ * On failure fp and ph hold nothing to free. */
+int kt_physics_problem(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                       kt_err *e);
+
 #endif

@@ -70,6 +70,9 @@ typedef struct kt_aug_problem {
     const kt_aug_fixsurf *fix;
 } kt_aug_problem;
 
+/* The problem of mesh m bound as fp (kt_fem_bind or kt_physics_problem): pointers into both. */
+kt_aug_problem kt_aug_problem_of(const kt_mesh *m, const kt_fem_problem *fp);
+
 /* One row of steps.tsv; times in ms, NaN where not measured. Augmented: m appended variables
  * (increments and multipliers), iters the steps of iterative refinement (0 or 1),
  * closure_max the largest closure (columns of L) of a column appended by this step,

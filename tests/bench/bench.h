@@ -1,6 +1,6 @@
-/* bench.h: what the benchmark programs share: a mesh with its scene's materials and Dirichlet
- * data, and the constrained stiffness matrix, built with the library's own calls (the same
- * ones augsolve uses). Header-only (static functions) so that each bench program stays a
+/* bench.h: what the benchmark programs share: a mesh with its scene's materials, physics and
+ * Dirichlet data, and the constrained stiffness matrix, built with the library's own calls (the
+ * same ones augsolve uses: kt_physics_problem). Header-only (static functions) so that each bench program stays a
  * single-file program. */
 #ifndef KT_BENCH_H
 #define KT_BENCH_H
@@ -15,12 +15,14 @@
 #include "bind.h"
 #include "chol.h"
 #include "msh.h"
+#include "physics.h"
 #include "scene.h"
 
 typedef struct bench_problem {
     kt_mesh mesh;
     kt_scene scene;
     kt_fem_problem fem;   /* the scene on the mesh (owns what the three below point to) */
+    kt_physics phys;      /* fibre matrices, prestress: fem.mats.td points into it */
     kt_materials mats;
     unsigned char *fixed; /* 3*nn: Dirichlet DOFs of the scene */
     double *g;            /* 3*nn: their values, mm */
@@ -29,16 +31,19 @@ typedef struct bench_problem {
 static inline void bench_problem_free(bench_problem *p)
 {
     kt_fem_problem_free(&p->fem);
+    kt_physics_free(&p->phys);
     kt_mesh_free(&p->mesh);
     memset(p, 0, sizeof *p);
 }
 
-/* Mesh + scene -> materials and Dirichlet data, as augsolve reads them. */
+/* Mesh + scene -> the problem augsolve solves: materials, physics (for a prestressed scene the
+ * stiffness about the loaded measured geometry, and zero prescribed values: the steps are
+ * increments) and Dirichlet data. */
 static inline int bench_problem_load(bench_problem *p, const char *mesh, const char *scene, kt_err *e)
 {
     memset(p, 0, sizeof *p);
     if (kt_msh_read(mesh, &p->mesh, e) || kt_scene_load(scene, &p->scene, e) ||
-        kt_fem_bind(&p->scene, &p->mesh, &p->fem, e))
+        kt_physics_problem(&p->scene, &p->mesh, &p->fem, &p->phys, e))
         return e->code;
     p->mats = p->fem.mats;
     p->fixed = p->fem.fixed;

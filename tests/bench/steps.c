@@ -6,9 +6,13 @@
  *     show the steps after one that failed);
  *   - t_factor_ms: the time of the factorization in use (augmented), and the wall budget
  *     (--budget SECONDS): steps after it is spent are not run (status "budget").
+ * The problem is augsolve's (kt_physics_problem: the fibre matrices and, for a prestressed
+ * scene, the prestress of the measured geometry). --field PREFIX writes each completed step's
+ * displacement to PREFIX-NNNN.txt (NNNN the step): one line per node of its cut mesh,
+ * "ux uy uz" in mm (%.17g), in the node order of augsolve's step VTK files.
  *
  *   bench_steps MESH EDITS [--scene S] [--method M] [--tol T] [--maxit N] [--verify]
- *               [--keep-going]
+ *               [--keep-going] [--field PREFIX]
  *               [--budget S] [--max-steps N] [--tag NAME]
  * stdout: TSV with a header line. Exit 1 if a step failed (even with --keep-going). */
 #define _POSIX_C_SOURCE 200809L
@@ -16,7 +20,7 @@
 #include "bench.h"
 
 typedef struct opts {
-    const char *mesh, *edits, *scene, *tag;
+    const char *mesh, *edits, *scene, *tag, *field;
     kt_aug_opts aug;
     int keep_going, max_steps;
     double budget;
@@ -37,6 +41,7 @@ static int parse(int argc, char **argv, opts *o)
         int bad = 0, arg = 1;
         if (!strcmp(a, "--scene")) o->scene = v;
         else if (!strcmp(a, "--tag")) o->tag = v;
+        else if (!strcmp(a, "--field")) o->field = v;
         else if (!strcmp(a, "--method")) bad = kt_aug_parse_method(v, &o->aug.method);
         else if (!strcmp(a, "--tol")) bad = kt_parse_double(v, &o->aug.tol);
         else if (!strcmp(a, "--maxit")) bad = kt_parse_int(v, &o->aug.maxit);
@@ -56,12 +61,18 @@ static int parse(int argc, char **argv, opts *o)
     return o->mesh && o->edits ? 0 : -1;
 }
 
-/* Pressures and fixation surfaces of the scene, by mesh group tag (as augsolve sets them). */
-static int problem(const bench_problem *p, kt_aug_problem *ap)
+/* --field: the current step's displacement, one node a line (written atomically). */
+static int write_field(const char *prefix, const kt_aug *A, kt_err *e)
 {
-    const kt_fem_problem *f = &p->fem;
-    *ap = (kt_aug_problem){&p->mesh, &f->mats, f->fixed, f->g, f->npress, f->press, f->nfix, f->fix};
-    return KT_OK;
+    char path[4096];
+    if (snprintf(path, sizeof path, "%s-%04d.txt", prefix, kt_aug_last(A)->step) >= (int)sizeof path)
+        return kt_fail(e, KT_EINPUT, "--field %s: path too long", prefix);
+    kt_out out;
+    if (kt_out_open(&out, path, e)) return e->code;
+    const double *u = kt_aug_displacement(A);
+    for (int i = 0; i < kt_aug_mesh(A)->nn; i++)
+        fprintf(out.f, "%.17g %.17g %.17g\n", u[3 * i], u[3 * i + 1], u[3 * i + 2]);
+    return kt_out_commit(&out, e);
 }
 
 static void num(double v, const char *fmt)
@@ -74,6 +85,7 @@ static void row(const opts *o, const kt_aug *A, const char *status, const kt_aug
 {
     double nnz, tf;
     kt_aug_factor_info(A, &nnz, &tf);
+    if (!(nnz > 0) && w->nnz_L > 0) nnz = w->nnz_L; /* refactor: the step's fresh factor */
     /* a failed step never reached the total: add up what it measured */
     double tot = w->t_total;
     if (strcmp(status, "ok"))
@@ -99,7 +111,7 @@ int main(int argc, char **argv)
     opts o;
     if (parse(argc, argv, &o)) {
         fprintf(stderr, "usage: bench_steps MESH EDITS [--scene S] [--method M] [--tol T] "
-                        "[--maxit N] [--verify] [--keep-going] [--budget S] "
+                        "[--maxit N] [--verify] [--keep-going] [--field PREFIX] [--budget S] "
                         "[--max-steps N] [--tag NAME]\n");
         return 2;
     }
@@ -117,15 +129,15 @@ int main(int argc, char **argv)
         return 2;
     }
     if (kt_edits_open(&rd, f, o.edits, &e)) goto done;
-    if (bench_problem_load(&p, o.mesh, o.scene ? o.scene : rd.h.scene, &e) ||
-        problem(&p, &ap))
-        goto done;
+    if (bench_problem_load(&p, o.mesh, o.scene ? o.scene : rd.h.scene, &e)) goto done;
+    ap = kt_aug_problem_of(&p.mesh, &p.fem);
     printf("tag\tmethod\tstep\tn_dofs\tm\tnew_dofs\titers\tclosure_max\tt_update_ms\tt_step1_ms\t"
            "t_step2_ms\tt_step3_ms\tt_total_ms\trel_residual\trefactor\tverify_rel_diff\tnnz_L\t"
            "t_factor_ms\tstatus\n");
     double t0 = kt_now();
     if (kt_aug_create(&A, &ap, &o.aug, &e)) goto done;
     row(&o, A, "ok", kt_aug_last(A));
+    if (o.field && write_field(o.field, A, &e)) goto done;
     int rc;
     while ((rc = kt_edits_next(&rd, &st, &e)) == 1 && st.index <= o.max_steps) {
         if (kt_now() - t0 > o.budget) {
@@ -135,6 +147,7 @@ int main(int argc, char **argv)
         }
         if (kt_aug_step(A, &st, &e) == KT_OK) {
             row(&o, A, "ok", kt_aug_last(A));
+            if (o.field && write_field(o.field, A, &e)) goto done;
             continue;
         }
         failed = 1;
