@@ -342,7 +342,9 @@ static int matheval(eye_build *b, const char *expr)
 /* Distance (mm) from a point to ring i's floor, the circle the ring's bottom edge sweeps (the
  * crack front of an incision cut along it), restricted to the arcs within floor_sector of the
  * meridian floor_centre and its opposite: sqrt(dr^2 + dz^2 + (rho_f * angle beyond the
- * sector)^2), the angle folded into [0, 90] deg. Written as a gmsh MathEval expression. */
+ * sector)^2), the angle folded into [0, 90] deg. Written as a gmsh MathEval expression; every
+ * number is parenthesized, since its parser refuses a sign after an operator ("x*-0.5"), which a
+ * centre above 90 deg gives. */
 static int floor_distance(eye_build *b, int i, char *expr, size_t len)
 {
     const kt_eye *eye = b->eye;
@@ -351,9 +353,9 @@ static int floor_distance(eye_build *b, int i, char *expr, size_t len)
     double sector = eye->floor_sector > 0 && eye->floor_sector < 90 ? eye->floor_sector : 90;
     double ca = cos(eye->floor_centre * PI / 180), sa = sin(eye->floor_centre * PI / 180);
     int n = snprintf(expr, len,
-                     "sqrt((sqrt(x*x+y*y)-%.17g)^2 + (z-%.17g)^2 + (%.17g*0.5*("
-                     "acos(Fabs(x*%.17g+y*%.17g)/(sqrt(x*x+y*y)+1e-12))-%.17g + "
-                     "Fabs(acos(Fabs(x*%.17g+y*%.17g)/(sqrt(x*x+y*y)+1e-12))-%.17g)))^2)",
+                     "sqrt((sqrt(x*x+y*y)-(%.17g))^2 + (z-(%.17g))^2 + ((%.17g)*0.5*("
+                     "acos(Fabs(x*(%.17g)+y*(%.17g))/(sqrt(x*x+y*y)+1e-12))-(%.17g) + "
+                     "Fabs(acos(Fabs(x*(%.17g)+y*(%.17g))/(sqrt(x*x+y*y)+1e-12))-(%.17g))))^2)",
                      rho, z, rho, ca, sa, sector * PI / 180, ca, sa, sector * PI / 180);
     return n > 0 && (size_t)n < len ? matheval(b, expr) : (b->ierr = 1, -1);
 }
@@ -369,7 +371,7 @@ static int size_fields(eye_build *b, kt_err *e)
     int n = 0, f;
     char expr[1024];
     /* Optical zone: radial distance from the axis, switched off below the corneal edge. */
-    snprintf(expr, sizeof expr, "sqrt(x*x+y*y) + 100*((%.17g - z) + Fabs(%.17g - z))",
+    snprintf(expr, sizeof expr, "sqrt(x*x+y*y) + 100*(((%.17g) - z) + Fabs((%.17g) - z))",
              g->Pp[1], g->Pp[1]);
     double hc = b->h_cornea, hmax = fmax(eye->h_sclera, hc);
     if ((f = graded(b, matheval(b, expr), b->h_optical, 0.5 * eye->optical_zone, 2 * hc, hc, hmax)) > 0)
