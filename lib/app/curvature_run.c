@@ -277,7 +277,7 @@ static int write_surface_vtk(run_ctx *c, int step, const kt_surf *s, const kt_fi
         snprintf(name, sizeof name, "surface-%04d.vtk", step);
         rc = kt_curvrun_tmp_path(c, path, name, e);
         if (rc == KT_OK) rc = kt_curvrun_add_file(c, name, e); /* first: a failed run removes what it names */
-        if (rc == KT_OK) rc = kt_vtk_write_polydata(path, s->n, ref, s->ntri, s->tri, f, 4, 1, e);
+        if (rc == KT_OK) rc = kt_vtk_write_tri_grid(path, s->n, ref, s->ntri, s->tri, f, 4, 1, e);
     }
     free(elev), free(pow), free(ref), free(org);
     return rc;
