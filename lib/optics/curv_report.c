@@ -250,8 +250,8 @@ static void eye_diagram(FILE *f, const kt_report *r)
         kt_svg_text(f, C + 218 * cos(t * DEG), C - 218 * sin(t * DEG) + 4, "middle", "tick", "%d\xC2\xB0", t);
     kt_svg_circle(f, C, C, 0.5 * r->zone * s, "kzone");
     /* orientation: superior up; nasal toward the nose (OD: the examiner's right, 0 deg) */
-    kt_svg_text(f, C, 16, "middle", "nsti", "S");
-    kt_svg_text(f, C, W - 4, "middle", "nsti", "I");
+    kt_svg_text(f, C + 34, 20, "middle", "nsti", "S");
+    kt_svg_text(f, C + 34, W - 6, "middle", "nsti", "I");
     kt_svg_text(f, W - 10, C - 14, "middle", "nsti", "%s", r->eye_os ? "T" : "N");
     kt_svg_text(f, 10, C - 14, "middle", "nsti", "%s", r->eye_os ? "N" : "T");
     kt_svg_text(f, 6, 18, "start", "nsti", "%s", r->eye_os ? "OS" : "OD");
@@ -597,8 +597,11 @@ static void step_table(FILE *f, const kt_report *r)
 static int strip(FILE *f, const kt_report *r, kt_err *e)
 {
     if (!r->maps) return KT_OK;
-    fprintf(f, "<details open id=\"strip\"><summary class=\"note\">every step's axial map (%s scale, as above)</summary>"
-               "<div class=\"strip\">\n", r->scale_auto ? "relative" : "absolute");
+    /* the relative scale when there is one: the change from step to step shows in it */
+    const kt_topo_scale *sc = r->rel_scale ? r->rel_scale : r->scale;
+    fprintf(f, "<details open id=\"strip\"><summary class=\"note\">every step's axial map (%s scale, %.2f&ndash;%.2f D "
+               "in %.2f D bins, as in section 2)</summary><div class=\"strip\">\n",
+            r->rel_scale || r->scale_auto ? "relative" : "absolute", sc->lo[0], sc->hi[sc->n - 1], sc->hi[0] - sc->lo[0]);
     for (int i = 0; i < r->nstep; i++) {
         kt_topo_map m;
         map_frame(&m, r->maps[i], r->map_rad[i], r->zone);
@@ -608,7 +611,7 @@ static int strip(FILE *f, const kt_report *r, kt_err *e)
         char alt[64];
         snprintf(alt, sizeof alt, "axial power map, step %d", r->num[i]);
         fputs("<figure>", f);
-        int rc = map_img(f, r->scale, &m, axial_of, r->maps[i], alt, e);
+        int rc = map_img(f, sc, &m, axial_of, r->maps[i], alt, e);
         if (rc) return rc;
         fprintf(f, "<figcaption>step %d", r->num[i]);
         if (isfinite(s->arc)) fprintf(f, ", %.0f&deg; of arc", s->arc);
