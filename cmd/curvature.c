@@ -11,6 +11,7 @@
 static const char usage[] =
     "usage: curvature [options] RUN_DIR\n"
     "       curvature [options] --mesh MESH.msh STEP.vtk...\n"
+    "       curvature --compare RUN_A RUN_B [-o OUTDIR]\n"
     "Simulated keratometry of the deformed anterior cornea at every step: K steep/flat, axis,\n"
     "cylinder, flattening of the incised meridian, steepening of the orthogonal one, coupling\n"
     "ratio, Alpins vector analysis, posterior and total corneal power; writes curvature.tsv,\n"
@@ -27,7 +28,12 @@ static const char usage[] =
     "  --mesh MESH.msh    input mesh (with the 'anterior' surface group) of the step files\n"
     "  --png / --no-png   write the axial power maps (default on)\n"
     "  --no-vtk           do not write the surface VTKs\n"
-    "  --scale TSV        colour scale of the maps (default share/colour/axial.tsv)\n"
+    "  --scale TSV|auto   colour scale of the maps (default share/colour/axial.tsv, absolute);\n"
+    "                     auto: relative, 0.25-3 D bins over this run's powers\n"
+    "  --step N           report step N only (against step 0)\n"
+    "  --arc DEG          report the step with DEG of arc opened per incision only\n"
+    "  --compare A B      a page comparing two runs read by curvature: OUTDIR/compare.html\n"
+    "  --eye OD|OS        the eye the report draws (nasal side; default OD, a right eye)\n"
     "  --no-report        do not write report.html\n"
     "  --json             print the summary as JSON (one object) instead of text\n"
     "  -o OUTDIR          output folder (default RUN_DIR, or . with --mesh)\n"
@@ -47,7 +53,7 @@ static int bad(const char *fmt, const char *arg)
 int main(int argc, char **argv)
 {
     enum { O_ZONE = 256, O_FIT, O_ORDER, O_MAPZONE, O_MAPORDER, O_MERIDIAN, O_PLAN, O_MESH, O_PNG,
-           O_NOPNG, O_NOVTK, O_SCALE, O_NOREPORT, O_JSON, O_VERSION };
+           O_NOPNG, O_NOVTK, O_SCALE, O_NOREPORT, O_JSON, O_VERSION, O_STEP, O_ARC, O_COMPARE, O_EYE };
     static const struct option lo[] = {
         {"zone", required_argument, 0, O_ZONE},         {"fit", required_argument, 0, O_FIT},
         {"order", required_argument, 0, O_ORDER},       {"map-zone", required_argument, 0, O_MAPZONE},
@@ -57,10 +63,12 @@ int main(int argc, char **argv)
         {"no-vtk", no_argument, 0, O_NOVTK},            {"scale", required_argument, 0, O_SCALE},
         {"no-report", no_argument, 0, O_NOREPORT},      {"json", no_argument, 0, O_JSON},
         {"version", no_argument, 0, O_VERSION},         {"help", no_argument, 0, 'h'},
+        {"step", required_argument, 0, O_STEP},         {"arc", required_argument, 0, O_ARC},
+        {"compare", no_argument, 0, O_COMPARE},         {"eye", required_argument, 0, O_EYE},
         {0, 0, 0, 0}};
     kt_curv_opts o;
     kt_curv_opts_default(&o);
-    int c;
+    int c, compare = 0;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "o:qh", lo, NULL)) != -1) {
         switch (c) {
@@ -94,7 +102,24 @@ int main(int argc, char **argv)
         case O_PNG: o.png = 1; break;
         case O_NOPNG: o.png = 0; break;
         case O_NOVTK: o.vtk_out = 0; break;
-        case O_SCALE: o.scale = optarg; break;
+        case O_SCALE:
+            o.scale = optarg;
+            o.scale_auto = strcmp(optarg, "auto") == 0;
+            break;
+        case O_STEP:
+            if (kt_parse_int(optarg, &o.step_sel) || o.step_sel < 1)
+                return bad("--step %s: expected a step number, 1 or more", optarg);
+            break;
+        case O_ARC:
+            if (kt_parse_double(optarg, &o.arc_sel) || !(o.arc_sel > 0 && o.arc_sel <= 360))
+                return bad("--arc %s: expected degrees of arc, more than 0 and at most 360", optarg);
+            break;
+        case O_COMPARE: compare = 1; break;
+        case O_EYE:
+            if (strcmp(optarg, "OD") == 0 || strcmp(optarg, "od") == 0) o.eye_os = 0;
+            else if (strcmp(optarg, "OS") == 0 || strcmp(optarg, "os") == 0) o.eye_os = 1;
+            else return bad("--eye %s: expected OD (right eye) or OS (left eye)", optarg);
+            break;
         case 'o': o.outdir = optarg; break;
         case 'q': o.quiet = 1; break;
         case O_NOREPORT: o.report = 0; break;
@@ -103,6 +128,16 @@ int main(int argc, char **argv)
         case 'h': fputs(usage, stdout); return 0;
         default: return bad("unknown or incomplete option: %s", argv[optind - 1]);
         }
+    }
+    if (o.step_sel >= 0 && isfinite(o.arc_sel)) return bad("%s", "--step and --arc: expected one of them");
+    if (compare) {
+        if (argc - optind != 2) return bad("%s", "--compare: expected two run folders, RUN_A RUN_B");
+        kt_err e = {0};
+        if (kt_curv_compare(argv[optind], argv[optind + 1], o.outdir ? o.outdir : ".", &e) != KT_OK) {
+            fprintf(stderr, "curvature: %s\n", e.msg);
+            return e.code;
+        }
+        return 0;
     }
     if (o.mesh) {
         o.vtk = (const char *const *)(argv + optind);

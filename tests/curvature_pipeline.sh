@@ -4,7 +4,8 @@
 # duplicated nodes from step 1 on; written by `test_curv --make-run`). Checks, with second
 # readers: K, axis, flattening, steepening, coupling and SIA against the analytic values
 # (expected.tsv: K = 337.5/R of the torus's principal circles); the input pair reads in meshio;
-# surface-NNNN.vtk (POLYDATA, parsed by an independent reader below) has the anterior nodes, the
+# surface-NNNN.vtk (UNSTRUCTURED_GRID of triangles, parsed by an independent reader below and
+# read back by meshio with the same points, triangles and fields) has the anterior nodes, the
 # analytic displacement, elevation against an independently fitted sphere and axial power against
 # the analytic torus; the PNGs are PNGs of the documented size; --mesh mode gives the same table.
 set -euo pipefail
@@ -79,8 +80,8 @@ if tri_ref.shape[1] == 6:  # tri6: area of the straight sub-triangles of corner+
     tri_ref = np.concatenate([t[:, [0, 3, 5]], t[:, [3, 1, 4]], t[:, [5, 4, 2]], t[:, [3, 4, 5]]])
 area_ref = area(msh.points, tri_ref)
 
-def read_polydata(path):
-    """Independent reader of legacy VTK POLYDATA (ASCII or big-endian BINARY)."""
+def read_surface(path):
+    """Independent reader of legacy VTK triangles (UNSTRUCTURED_GRID, ASCII or big-endian BINARY)."""
     data = open(path, 'rb').read()
     pos = 0
     def line():
@@ -114,14 +115,16 @@ def read_polydata(path):
         if not s:
             continue
         if s[0] == 'DATASET':
-            assert s[1] == 'POLYDATA', s
+            assert s[1] == 'UNSTRUCTURED_GRID', s
         elif s[0] == 'POINTS':
             npts = int(s[1])
             pts = block(3 * npts, s[2]).reshape(-1, 3)
-        elif s[0] == 'POLYGONS':
+        elif s[0] == 'CELLS':
             raw = block(int(s[2]), 'int').astype(int).reshape(int(s[1]), -1)
             assert (raw[:, 0] == 3).all()
             tri = raw[:, 1:]
+        elif s[0] == 'CELL_TYPES':
+            assert (block(int(s[1]), 'int') == 5).all()  # VTK_TRIANGLE
         elif s[0] in ('POINT_DATA', 'CELL_DATA'):
             assert s[0] == 'POINT_DATA' and int(s[1]) == npts
         elif s[0] == 'SCALARS':
@@ -142,7 +145,14 @@ for k in range(4):
     step = meshio.read(f'{d}/step-{k:04d}.vtk')
     origin = step.point_data['origin'].astype(int).ravel()
     n_ant = sum(1 for o in origin if o - 1 in ant)
-    pts, tri, f = read_polydata(f'{d}/surface-{k:04d}.vtk')
+    pts, tri, f = read_surface(f'{d}/surface-{k:04d}.vtk')
+    # a second reader: meshio (it reads no POLYDATA) gives the same points, triangles and fields
+    ms = meshio.read(f'{d}/surface-{k:04d}.vtk')
+    assert [b.type for b in ms.cells] == ['triangle'] and (ms.cells[0].data == tri).all()
+    assert np.array_equal(ms.points, pts)
+    for name in ('displacement', 'elevation', 'axial_power', 'origin'):
+        a, b = np.asarray(ms.point_data[name], dtype=float).reshape(f[name].shape), f[name]
+        assert np.array_equal(np.isnan(a), np.isnan(b)) and np.allclose(a[~np.isnan(a)], b[~np.isnan(b)], rtol=0, atol=0)
     assert len(pts) == n_ant, (len(pts), n_ant)
     assert set(f) == {'displacement', 'elevation', 'axial_power', 'origin'}, f.keys()
     assert all(int(o) - 1 in ant for o in f['origin'])

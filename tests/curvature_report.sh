@@ -85,7 +85,9 @@ urls = [u for u in re.findall(r'''(?:src|href)\s*=\s*["']([^"']*)''', html) if n
 urls += re.findall(r'url\(', html)
 check(not urls, 'no URL besides data: (%s)' % urls[:3])
 imgs = re.findall(r'src="data:image/png;base64,([A-Za-z0-9+/=]+)"', html)
-check(len(imgs) == 4 and len(re.findall(r'<img', html)) == 4, '4 maps, all PNG data URIs')
+# pre-op and final (absolute), the same on the relative scale, tangential, difference, and
+# the strip of the 4 steps' maps
+check(len(imgs) == 10 and len(re.findall(r'<img', html)) == 10, '10 maps, all PNG data URIs (%d)' % len(imgs))
 pngs = [Image.open(io.BytesIO(base64.b64decode(b, validate=True))).convert('RGB') for b in imgs]
 check(all(p.size == (720, 580) for p in pngs), 'maps are 720 x 580 (kt_topo_layout_of)')
 

@@ -19,6 +19,7 @@
 #include "bind.h"
 #include "msh.h"
 #include "physics.h"
+#include "runrec.h"
 #include "scene.h"
 #include "vtk.h"
 
@@ -254,6 +255,7 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
     if (r->fallback) yaml_str(out.f, "fallback", r->fallback);
     if (o->steps) yaml_str(out.f, "written_steps", o->steps);
+    if (kt_runrec_write(out.f, o->run_dir, &r->mesh, &r->scene, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
 }
 

@@ -33,6 +33,7 @@ typedef struct run_ctx {
     char mesh[PATHMAX], plan[PATHMAX];
     int nstep;
     char **vtk;          /* nstep step files, step 0 first */
+    int *num;            /* the step number of each (its run's numbering: --step, --mesh names) */
     unsigned char *mask; /* anterior nodes of the input mesh */
     unsigned char *post_mask; /* posterior corneal nodes (NULL: none) */
     int mesh_nn, mesh_ne, mesh_order;
@@ -47,6 +48,9 @@ typedef struct run_ctx {
     int has_target;
     kt_astig tia;
     step_res *res;
+    kt_topo_scale abs_scale; /* the absolute scale (the maps' when not --scale auto) */
+    kt_topo_scale rel_scale; /* the relative scale over this run's powers (auto_maps) */
+    unsigned long long mesh_hash; /* kt_mesh_hash of the mesh read */
     int nfile;
     char **file;         /* names written into tmpdir */
 } run_ctx;
@@ -58,6 +62,11 @@ double kt_curvrun_axis_out(double a, int decimals);
 /* Register an output written into the temporary folder, and its path there. */
 int kt_curvrun_add_file(run_ctx *c, const char *name, kt_err *e);
 int kt_curvrun_tmp_path(run_ctx *c, char *path, const char *name, kt_err *e);
+
+/* Degrees of arc opened per incision at the i-th step analysed (NaN: no arcs in the plan). */
+double kt_curvrun_arc(const run_ctx *c, int i);
+/* One line on over- or under-correction and an axis flip, for the summary and the page. */
+void kt_curvrun_verdict(const run_ctx *c, char *buf, size_t size);
 
 /* curvature_out.c */
 int kt_curvrun_write_tables(run_ctx *c, kt_err *e);

@@ -61,7 +61,7 @@ int kt_curvrun_write_tables(run_ctx *c, kt_err *e)
           "\ttia_D\ttia_axis_deg\tdv_D\tdv_axis_deg\tcorrection_index\tangle_error_deg"
           "\tapex_x_mm\tapex_y_mm\tapex_z_mm\tfit_rms_um\tzone_points\tfit_order"
           "\tpost_k_steep_D\tpost_k_flat_D\tpost_axis_deg\tpost_cyl_D\tthickness_mm"
-          "\ttotal_k_steep_D\ttotal_k_flat_D\ttotal_axis_deg\ttotal_cyl_D\n", f);
+          "\ttotal_k_steep_D\ttotal_k_flat_D\ttotal_axis_deg\ttotal_cyl_D\tarc_deg\n", f);
     for (int i = 0; i < c->nstep; i++) {
         const step_res *r = c->res + i;
         step_cmp d;
@@ -71,7 +71,7 @@ int kt_curvrun_write_tables(run_ctx *c, kt_err *e)
                         kt_curvrun_axis_out(d.va.sia.axis, 4), d.va.tia.mag, kt_curvrun_axis_out(d.va.tia.axis, 4), d.va.dv.mag,
                         kt_curvrun_axis_out(d.va.dv.axis, 4), d.va.ci,
                         d.va.ae, r->fit.ax, r->fit.ay, r->fit.az, 1000 * r->fit.rms};
-        fprintf(f, "%d", i);
+        fprintf(f, "%d", c->num[i]);
         for (size_t k = 0; k < sizeof row / sizeof row[0]; k++) {
             fputc('\t', f);
             put(f, row[k], k >= 20 && k <= 22 ? "%.6f" : "%.4f");
@@ -84,6 +84,8 @@ int kt_curvrun_write_tables(run_ctx *c, kt_err *e)
             fputc('\t', f);
             put(f, tot[k], k == 4 ? "%.6f" : "%.4f");
         }
+        fputc('\t', f);
+        put(f, kt_curvrun_arc(c, i), "%.4f");
         fputc('\n', f);
     }
     if (kt_out_commit(&out, e)) return e->code;
@@ -96,13 +98,15 @@ int kt_curvrun_write_tables(run_ctx *c, kt_err *e)
     for (int t = 0; t < KT_CURV_NMERID; t += 5) fprintf(f, "\tk%03d_D", t * 180 / KT_CURV_NMERID);
     fputc('\n', f);
     for (int i = 0; i < c->nstep; i++) {
-        fprintf(f, "%d", i);
+        fprintf(f, "%d", c->num[i]);
         for (int t = 0; t < KT_CURV_NMERID; t += 5) fprintf(f, "\t%.4f", c->res[i].k.kmer[t]);
         fputc('\n', f);
     }
     if (kt_out_commit(&out, e)) return e->code;
     return KT_OK;
 }
+
+static int axis_note(const run_ctx *c, char *buf, size_t size);
 
 void kt_curvrun_summary(const run_ctx *c, FILE *f)
 {
@@ -117,7 +121,7 @@ void kt_curvrun_summary(const run_ctx *c, FILE *f)
     fprintf(f, "pre-op (step 0): K %.2f D @ %.0f / %.2f D @ %.0f, cylinder %.2f D, mean K %.2f D\n",
             r0->k.k_steep, kt_curvrun_axis_out(r0->k.axis_steep, 0), r0->k.k_flat, kt_curvrun_axis_out(r0->k.axis_steep + 90, 0), r0->k.cyl,
             r0->k.k_mean);
-    fprintf(f, "%5s %15s %7s %6s %8s %10s %10s %8s %14s\n", "step", "K steep @ axis", "K flat", "cyl",
+    fprintf(f, "%5s %6s %15s %7s %6s %8s %10s %10s %8s %14s\n", "step", "arc", "K steep @ axis", "K flat", "cyl",
             "dK mean", "flattening", "steepening", "coupling", "SIA @ axis");
     for (int i = 0; i < c->nstep; i++) {
         const step_res *r = c->res + i;
@@ -126,7 +130,11 @@ void kt_curvrun_summary(const run_ctx *c, FILE *f)
         char cr[32];
         if (isnan(d.coupling)) snprintf(cr, sizeof cr, "-");
         else snprintf(cr, sizeof cr, "%.2f", d.coupling);
-        fprintf(f, "%5d %7.2f @ %5.1f %7.2f %6.2f %+8.2f %+10.3f %+10.3f %8s %6.2f @ %5.1f\n", i, r->k.k_steep,
+        char arc[32];
+        double a = kt_curvrun_arc(c, i);
+        if (isnan(a)) snprintf(arc, sizeof arc, "-");
+        else snprintf(arc, sizeof arc, "%.1f", a);
+        fprintf(f, "%5d %6s %7.2f @ %5.1f %7.2f %6.2f %+8.2f %+10.3f %+10.3f %8s %6.2f @ %5.1f\n", c->num[i], arc, r->k.k_steep,
                 kt_curvrun_axis_out(r->k.axis_steep, 1), r->k.k_flat, r->k.cyl, d.dk_mean, d.flat, d.steep, cr,
                 d.va.sia.mag, kt_curvrun_axis_out(d.va.sia.axis, 1));
     }
@@ -142,19 +150,50 @@ void kt_curvrun_summary(const run_ctx *c, FILE *f)
         compare(c, c->nstep - 1, &d);
         fprintf(f, "target: correct %.2f D @ %.0f, TIA %.2f D @ %.0f; step %d: SIA %.2f D @ %.1f, "
                    "correction index %.2f, angle of error %+.1f deg, difference vector %.2f D @ %.1f\n",
-                c->tia.mag, kt_curvrun_axis_out(c->tia.axis + 90, 0), c->tia.mag, kt_curvrun_axis_out(c->tia.axis, 0), c->nstep - 1,
+                c->tia.mag, kt_curvrun_axis_out(c->tia.axis + 90, 0), c->tia.mag, kt_curvrun_axis_out(c->tia.axis, 0), c->num[c->nstep - 1],
                 d.va.sia.mag, kt_curvrun_axis_out(d.va.sia.axis, 1), d.va.ci, d.va.ae, d.va.dv.mag, kt_curvrun_axis_out(d.va.dv.axis, 1));
+    }
+    if (c->nstep > 1) {
+        char v[512], note[512];
+        kt_curvrun_verdict(c, v, sizeof v);
+        fprintf(f, "verdict: %s\n", v);
+        if (axis_note(c, note, sizeof note)) fprintf(f, "note: %s\n", note);
     }
 }
 
-/* ---------------------------------------------------------------- JSON, ParaView, report */
-
-/* Degrees of arc opened per incision at step i (the plan's first incision), NaN without one. */
-static double arc_of(const run_ctx *c, int i)
+/* The largest angle between two axes, 0 to 90 deg. */
+static double axis_gap(double a, double b)
 {
-    if (!c->plan_in || c->plan_in->ninc < 1 || !(c->plan_in->inc[0].prog.degrees_per_step > 0)) return NAN;
-    return fmin(i * c->plan_in->inc[0].prog.degrees_per_step, c->plan_in->inc[0].arc);
+    double d = fmod(fabs(a - b), 180);
+    return d > 90 ? 180 - d : d;
 }
+
+void kt_curvrun_verdict(const run_ctx *c, char *buf, size_t size)
+{
+    const step_res *r0 = c->res, *rl = c->res + c->nstep - 1;
+    step_cmp d;
+    compare(c, c->nstep - 1, &d);
+    kt_astig pre = {r0->k.cyl, r0->k.axis_steep}, post = {rl->k.cyl, rl->k.axis_steep};
+    kt_report_verdict(pre, post, &d.va, c->has_target, buf, size);
+}
+
+/* When the steep axis swings between steps while an arc is partly cut, say why (1: a note). */
+static int axis_note(const run_ctx *c, char *buf, size_t size)
+{
+    double most = 0;
+    for (int i = 1; i < c->nstep; i++) most = fmax(most, axis_gap(c->res[i].k.axis_steep, c->res[0].k.axis_steep));
+    if (!(most > 10) || !c->plan_in || c->plan_in->ninc < 1) return 0;
+    int dir = c->plan_in->inc[0].direction;
+    snprintf(buf, size, "the steep axis moves by up to %.0f deg over the steps. %s The axis column is the axis "
+             "of the cylinder that remains, read about the apex; the cornea does not rotate.", most,
+             dir == KT_BLADE_CENTRE_OUT ? "While the cylinder nears zero its axis is poorly defined and swings."
+                      : "While an arc is partly cut the blade has opened one side of the meridian only (it cuts "
+                        "from one end of the arc), so the flattening is off-centre and the remaining cylinder's "
+                        "axis turns with it until the arc is complete.");
+    return 1;
+}
+
+/* ---------------------------------------------------------------- JSON, ParaView, report */
 
 static void jnum(FILE *f, const char *key, double v, int last)
 {
@@ -200,8 +239,8 @@ void kt_curvrun_summary_json(const run_ctx *c, FILE *f)
         const step_res *r = c->res + i;
         step_cmp d;
         compare(c, i, &d);
-        fprintf(f, "%s\n  {\"step\": %d, ", i ? "," : "", i);
-        jnum(f, "arc_deg", arc_of(c, i), 0);
+        fprintf(f, "%s\n  {\"step\": %d, ", i ? "," : "", c->num[i]);
+        jnum(f, "arc_deg", kt_curvrun_arc(c, i), 0);
         jnum(f, "k_steep_D", r->k.k_steep, 0);
         jnum(f, "k_flat_D", r->k.k_flat, 0);
         jnum(f, "axis_steep_deg", kt_curvrun_axis_out(r->k.axis_steep, 4), 0);
@@ -236,8 +275,8 @@ int kt_curvrun_write_pvd(run_ctx *c, kt_err *e)
 {
     char path[PATHMAX], a[PATHMAX], b[PATHMAX];
     int beside = realpath(c->o->run_dir, a) && realpath(c->outdir, b) && strcmp(a, b) == 0;
-    int by_arc = c->nstep > 1 && isfinite(arc_of(c, 1));
-    for (int i = 1; by_arc && i < c->nstep; i++) by_arc = arc_of(c, i) > arc_of(c, i - 1);
+    int by_arc = c->nstep > 1 && isfinite(kt_curvrun_arc(c, 1));
+    for (int i = 1; by_arc && i < c->nstep; i++) by_arc = kt_curvrun_arc(c, i) > kt_curvrun_arc(c, i - 1);
     kt_out out;
     /* registered first: a failed run removes what it names */
     if (kt_curvrun_tmp_path(c, path, "steps.pvd", e) || kt_curvrun_add_file(c, "steps.pvd", e) ||
@@ -253,7 +292,7 @@ int kt_curvrun_write_pvd(run_ctx *c, kt_err *e)
             kt_out_abort(&out);
             return kt_fail(e, KT_ERUN, "%s: cannot resolve the path", c->vtk[i]);
         }
-        fprintf(f, "    <DataSet timestep=\"%g\" part=\"0\" file=\"", by_arc ? arc_of(c, i) : i);
+        fprintf(f, "    <DataSet timestep=\"%g\" part=\"0\" file=\"", by_arc ? kt_curvrun_arc(c, i) : c->num[i]);
         for (const char *q = beside ? name : a; *q; q++) {
             if (*q == '&') fputs("&amp;", f);
             else if (*q == '"') fputs("&quot;", f);
@@ -300,6 +339,76 @@ static double solver_ms(const char *dir)
     return col >= 0 ? sum : NAN;
 }
 
+/* The scalar text of key in a mapping (NULL: absent or not a scalar). */
+static const char *scalar(kt_yml *y, const yaml_node_t *map, const char *key)
+{
+    yaml_node_t *n = map ? kt_yml_get(y, map, key) : NULL;
+    return n && n->type == YAML_SCALAR_NODE ? (const char *)n->data.scalar.value : NULL;
+}
+
+/* A mapping's scalars (one level of nested flow maps) as "k v, k v; ..." text. */
+static void map_text(kt_yml *y, const yaml_node_t *n, char *buf, size_t size)
+{
+    size_t len = strlen(buf);
+    for (int i = 0; n && n->type == YAML_MAPPING_NODE && i < kt_yml_map_len(n) && len < size; i++) {
+        yaml_node_t *v;
+        const char *k = kt_yml_map_key(y, n, i, NULL, &v);
+        if (!k || !v) continue;
+        if (v->type == YAML_SCALAR_NODE)
+            len += snprintf(buf + len, size - len, "%s%s %s", i ? ", " : "", k, (const char *)v->data.scalar.value);
+        else if (v->type == YAML_MAPPING_NODE) {
+            len += snprintf(buf + len, size - len, "%s%s: ", i ? "; " : "", k);
+            if (len < size) map_text(y, v, buf, size), len = strlen(buf);
+        }
+    }
+}
+
+/* Report rows from run.yaml's provenance block (runrec.h; absent in older runs): text pairs in
+ * rows[] (ROWS of ROWLEN bytes), their count. */
+enum { ROWS = 12, ROWLEN = 1024 };
+static int prov_rows(const run_ctx *c, char (*rows)[ROWLEN], const char **ptr)
+{
+    char path[PATHMAX];
+    kt_err e2 = {0};
+    kt_yml y;
+    if (!c->o->run_dir || kt_curvrun_join(path, c->o->run_dir, "run.yaml", &e2) || kt_yml_load(&y, path, &e2)) return 0;
+    yaml_node_t *root = kt_yml_root(&y, &e2), *p = root ? kt_yml_get(&y, root, "provenance") : NULL;
+    int n = 0;
+    if (p && p->type == YAML_MAPPING_NODE) {
+        const char *v;
+        char got[32];
+        snprintf(got, sizeof got, "%016llx", c->mesh_hash);
+        v = scalar(&y, p, "mesh_hash");
+        snprintf(rows[n++], ROWLEN, "mesh hash (run.yaml)");
+        snprintf(rows[n++], ROWLEN, "%s: %s", v ? v : "-",
+                 !v ? "not recorded" : strcmp(v, got) == 0 ? "matches the mesh read here"
+                                                          : "DIFFERS from the mesh read here, which hashes to");
+        if (v && strcmp(v, got) != 0) strncat(rows[n - 1], got, ROWLEN - strlen(rows[n - 1]) - 1);
+        snprintf(rows[n++], ROWLEN, "scene as solved");
+        v = scalar(&y, p, "scene_fnv1a");
+        snprintf(rows[n++], ROWLEN, "file hash %s (FNV-1a), reference %s; run.yaml keeps its text (scene_text)",
+                 v ? v : "-", scalar(&y, p, "reference") ? scalar(&y, p, "reference") : "-");
+        snprintf(rows[n++], ROWLEN, "materials (as solved)");
+        rows[n][0] = '\0';
+        map_text(&y, kt_yml_get(&y, p, "materials"), rows[n++], ROWLEN);
+        snprintf(rows[n++], ROWLEN, "tools");
+        snprintf(rows[n++], ROWLEN, "keratome %s, CHOLMOD %s, METIS %s, compiler %s",
+                 scalar(&y, p, "keratome") ? scalar(&y, p, "keratome") : "-",
+                 scalar(&y, p, "cholmod") ? scalar(&y, p, "cholmod") : "-",
+                 scalar(&y, p, "metis") ? scalar(&y, p, "metis") : "-",
+                 scalar(&y, p, "compiler") ? scalar(&y, p, "compiler") : "-");
+        snprintf(rows[n++], ROWLEN, "solver figures");
+        rows[n][0] = '\0';
+        snprintf(rows[n], ROWLEN, "method %s, ordering %s, factor %s; ", scalar(&y, root, "method") ? scalar(&y, root, "method") : "-",
+                 scalar(&y, root, "ordering") ? scalar(&y, root, "ordering") : "-",
+                 scalar(&y, root, "factor") ? scalar(&y, root, "factor") : "-");
+        map_text(&y, kt_yml_get(&y, p, "solver"), rows[n++], ROWLEN);
+    }
+    kt_yml_free(&y);
+    for (int i = 0; i < n; i++) ptr[i] = rows[i];
+    return n / 2;
+}
+
 int kt_curvrun_write_report(run_ctx *c, kt_err *e)
 {
     kt_report_step *st = kt_calloc(c->nstep, sizeof(kt_report_step), e);
@@ -311,7 +420,7 @@ int kt_curvrun_write_report(run_ctx *c, kt_err *e)
         st[i].k_inc = d.k_inc, st[i].k_ort = d.k_ort, st[i].flat = d.flat, st[i].steep = d.steep;
         st[i].va = d.va;
         st[i].tot = c->res[i].tot;
-        st[i].arc = arc_of(c, i);
+        st[i].arc = kt_curvrun_arc(c, i);
     }
     char yaml[PATHMAX], fitname[64], path[PATHMAX];
     char *run_yaml = NULL;
@@ -331,10 +440,29 @@ int kt_curvrun_write_report(run_ctx *c, kt_err *e)
     r.solver_ms = c->o->run_dir ? solver_ms(c->o->run_dir) : NAN;
     r.curv_s = kt_now() - c->t0;
     r.n = &c->n;
+    char verdict[512], note[512];
+    kt_curvrun_verdict(c, verdict, sizeof verdict);
+    r.verdict = c->nstep > 1 ? verdict : NULL;
+    r.axis_note = axis_note(c, note, sizeof note) ? note : NULL;
+    r.num = c->num;
+    r.rel_scale = &c->rel_scale, r.scale_auto = c->o->scale_auto;
+    r.apex_z = c->res[0].fit.az;
+    r.eye_os = c->o->eye_os;
+    char (*rows)[ROWLEN] = kt_calloc(ROWS, ROWLEN, e);
+    const char *ptr[ROWS];
+    const kt_fit **maps = kt_calloc(c->nstep, sizeof *maps, e);
+    double *rad = kt_calloc(c->nstep, sizeof(double), e);
+    if (!rows || !maps || !rad) {
+        free(rows), free(maps), free(rad), free(run_yaml), free(st);
+        return e->code;
+    }
+    r.nprov = prov_rows(c, rows, ptr), r.prov = ptr;
+    for (int i = 0; i < c->nstep; i++) maps[i] = &c->res[i].map, rad[i] = c->res[i].map_radius;
+    r.maps = maps, r.map_rad = rad;
     int rc = kt_curvrun_tmp_path(c, path, "report.html", e);
     if (rc == KT_OK) rc = kt_curvrun_add_file(c, "report.html", e); /* first: a failed run removes it */
     if (rc == KT_OK) rc = kt_curv_report_write(path, &r, e);
-    free(run_yaml), free(st);
+    free(run_yaml), free(st), free(rows), free(maps), free(rad);
     return rc;
 }
 

@@ -32,6 +32,8 @@ void kt_curv_opts_default(kt_curv_opts *o)
     o->order = 6;
     o->map_order = 8;
     o->meridian = NAN;
+    o->step_sel = -1;
+    o->arc_sel = NAN;
     o->png = o->vtk_out = o->report = 1;
 }
 
@@ -274,10 +276,10 @@ static int write_surface_vtk(run_ctx *c, int step, const kt_surf *s, const kt_fi
         strcpy(f[2].name, "axial_power"), f[2].ncomp = 1, f[2].v = pow;
         strcpy(f[3].name, "origin"), f[3].ncomp = 1, f[3].is_int = 1, f[3].v = org;
         char name[64], path[PATHMAX];
-        snprintf(name, sizeof name, "surface-%04d.vtk", step);
+        snprintf(name, sizeof name, "surface-%04d.vtk", c->num[step]);
         rc = kt_curvrun_tmp_path(c, path, name, e);
         if (rc == KT_OK) rc = kt_curvrun_add_file(c, name, e); /* first: a failed run removes what it names */
-        if (rc == KT_OK) rc = kt_vtk_write_polydata(path, s->n, ref, s->ntri, s->tri, f, 4, 1, e);
+        if (rc == KT_OK) rc = kt_vtk_write_tri_grid(path, s->n, ref, s->ntri, s->tri, f, 4, 1, e);
     }
     free(elev), free(pow), free(ref), free(org);
     return rc;
@@ -288,13 +290,13 @@ static int write_map_png(run_ctx *c, int step, const kt_fit *map, const step_res
     kt_topo_map m;
     memset(&m, 0, sizeof m);
     m.cx = map->ax, m.cy = map->ay, m.radius = r->map_radius, m.zone = c->o->zone;
-    snprintf(m.title[0], sizeof m.title[0], "AXIAL POWER (D)  STEP %d  MAP %.1f MM", step, 2 * r->map_radius);
+    snprintf(m.title[0], sizeof m.title[0], "AXIAL POWER (D)  STEP %d  MAP %.1f MM", c->num[step], 2 * r->map_radius);
     snprintf(m.title[1], sizeof m.title[1], "SIM K %.2f@%.0f\xC2\xB0 / %.2f@%.0f\xC2\xB0  CYL %.2f  ZONE %.0f MM",
              r->k.k_steep, kt_curvrun_axis_out(r->k.axis_steep, 0), r->k.k_flat, kt_curvrun_axis_out(r->k.axis_steep + 90, 0), r->k.cyl,
              c->o->zone);
     kt_topo_image img = {0, 0, NULL};
     char name[64], path[PATHMAX];
-    snprintf(name, sizeof name, "axial-%04d.png", step);
+    snprintf(name, sizeof name, "axial-%04d.png", c->num[step]);
     int rc = kt_topo_render(&c->scale, &m, map_power, map, &img, e);
     if (rc == KT_OK) rc = kt_curvrun_tmp_path(c, path, name, e);
     if (rc == KT_OK) rc = kt_curvrun_add_file(c, name, e);
@@ -374,12 +376,93 @@ static int do_step(run_ctx *c, int step, kt_err *e)
         rc = kt_curv_sphere_fit(pts, np, bfs_c, &r->bfs_radius, e);
     }
     if (rc == KT_OK && o->vtk_out) rc = write_surface_vtk(c, step, &s, map, bfs_c, r->bfs_radius, r->map_radius, e);
-    if (rc == KT_OK && o->png) rc = write_map_png(c, step, map, r, e);
+    if (rc == KT_OK && o->png && !o->scale_auto) rc = write_map_png(c, step, map, r, e);
     if (rc == KT_OK) r->map = *map;
     if (rc == KT_OK && r->has_post) kt_curv_total(&r->fit, &r->post, &c->n, &r->tot);
     free(map), free(pts);
     kt_surf_free(&s);
     return rc;
+}
+
+/* The range of a map fit's axial power over its disk (a 41 x 41 grid). */
+static void map_range(const step_res *r, double *lo, double *hi)
+{
+    for (int i = 0; i <= 40; i++)
+        for (int j = 0; j <= 40; j++) {
+            double x = (i - 20) / 20.0 * r->map_radius, y = (j - 20) / 20.0 * r->map_radius;
+            if (hypot(x, y) > r->map_radius) continue;
+            double p = kt_fit_axial_power(&r->map, r->map.ax + x, r->map.ay + y);
+            if (isfinite(p)) *lo = fmin(*lo, p), *hi = fmax(*hi, p);
+        }
+}
+
+/* The relative scale (documented cases: the report's second row of maps, and --scale auto for
+ * every map): one scale over the powers of every step's map, so colours compare across steps. */
+static int auto_maps(run_ctx *c, kt_err *e)
+{
+    if (!c->o->png && !c->o->report) return KT_OK;
+    double lo = INFINITY, hi = -INFINITY;
+    for (int i = 0; i < c->nstep; i++) map_range(c->res + i, &lo, &hi);
+    if (kt_topo_scale_auto(&c->abs_scale, lo, hi, &c->rel_scale, e)) return e->code;
+    if (!c->o->scale_auto) return KT_OK;
+    c->scale = c->rel_scale;
+    for (int i = 0; c->o->png && i < c->nstep; i++)
+        if (write_map_png(c, i, &c->res[i].map, c->res + i, e)) return e->code;
+    return KT_OK;
+}
+
+/* ---------------------------------------------------------------- step numbers, --step, --arc */
+
+/* A run folder's steps are 0, 1, ...; files named step-NNNN.vtk after --mesh keep NNNN when the
+ * numbers increase from 0, else they are numbered in the order given. */
+static int number_steps(run_ctx *c, kt_err *e)
+{
+    if (!(c->num = kt_calloc(c->nstep, sizeof(int), e))) return e->code;
+    int named = !c->o->run_dir;
+    for (int i = 0; i < c->nstep; i++) {
+        const char *b = strrchr(c->vtk[i], '/') ? strrchr(c->vtk[i], '/') + 1 : c->vtk[i];
+        c->num[i] = named ? step_number(b) : i;
+        if (named && (c->num[i] < 0 || (i == 0 && c->num[i] != 0) || (i > 0 && c->num[i] <= c->num[i - 1]))) named = 0;
+    }
+    if (!named)
+        for (int i = 0; i < c->nstep; i++) c->num[i] = i;
+    return KT_OK;
+}
+
+/* --step N / --arc DEG: keep step 0 and that step. */
+static int select_step(run_ctx *c, kt_err *e)
+{
+    const kt_curv_opts *o = c->o;
+    int k = -1;
+    if (o->step_sel >= 0) {
+        for (int i = 0; i < c->nstep; i++)
+            if (c->num[i] == o->step_sel) k = i;
+        if (k < 0)
+            return kt_fail(e, KT_EINPUT, "--step %d: expected a step of the run, 0 to %d", o->step_sel, c->num[c->nstep - 1]);
+    } else if (isfinite(o->arc_sel)) {
+        if (!isfinite(kt_curvrun_arc(c, c->nstep - 1)))
+            return kt_fail(e, KT_EINPUT, "--arc %g: expected a plan that cuts arcs (run.yaml's plan or --plan)", o->arc_sel);
+        for (int i = 0; i < c->nstep && k < 0; i++)
+            if (fabs(kt_curvrun_arc(c, i) - o->arc_sel) < 0.01) k = i;
+        if (k < 0)
+            return kt_fail(e, KT_EINPUT, "--arc %g: expected the arc of a step, %g to %g deg in steps of %g", o->arc_sel,
+                           kt_curvrun_arc(c, 0), kt_curvrun_arc(c, c->nstep - 1),
+                           c->nstep > 1 ? kt_curvrun_arc(c, 1) - kt_curvrun_arc(c, 0) : 0);
+    } else {
+        return KT_OK;
+    }
+    if (k == 0) return kt_fail(e, KT_EINPUT, "--step/--arc: expected a step after step 0 (step 0 is the reference)");
+    for (int i = 1; i < c->nstep; i++)
+        if (i != k) free(c->vtk[i]);
+    c->vtk[1] = c->vtk[k], c->num[1] = c->num[k];
+    c->nstep = 2;
+    return KT_OK;
+}
+
+double kt_curvrun_arc(const run_ctx *c, int i)
+{
+    if (!c->plan_in || c->plan_in->ninc < 1 || !(c->plan_in->inc[0].prog.degrees_per_step > 0)) return NAN;
+    return fmin(c->num[i] * c->plan_in->inc[0].prog.degrees_per_step, c->plan_in->inc[0].arc);
 }
 
 /* ---------------------------------------------------------------- driver */
@@ -409,10 +492,12 @@ static int setup(run_ctx *c, kt_err *e)
         if (access(c->vtk[i], R_OK) != 0)
             return kt_fail(e, KT_EINPUT, "%s: cannot read the step file: %s", c->vtk[i], strerror(errno));
     if (c->plan[0] && read_plan(c, e)) return e->code;
+    if (number_steps(c, e) || select_step(c, e)) return e->code;
 
     kt_mesh m;
     if (kt_msh_read(c->mesh, &m, e) != KT_OK) return e->code;
     c->mesh_nn = m.nn, c->mesh_ne = m.ne, c->mesh_order = m.order;
+    c->mesh_hash = kt_mesh_hash(&m);
     int rc = kt_curv_anterior_mask(&m, c->mesh, &c->mask, e);
     if (rc == KT_OK) rc = kt_curv_posterior_mask(&m, &c->post_mask, e);
     kt_mesh_free(&m);
@@ -423,9 +508,10 @@ static int setup(run_ctx *c, kt_err *e)
         char scale[PATHMAX];
         const char *share = o->share ? o->share : getenv("KERATOME_SHARE");
         if (!share) share = KT_SHARE_DIR;
-        if (o->scale) snprintf(scale, sizeof scale, "%s", o->scale);
+        if (o->scale && !o->scale_auto) snprintf(scale, sizeof scale, "%s", o->scale);
         else if (kt_curvrun_join(scale, share, "colour/axial.tsv", e)) return e->code;
         if (kt_topo_scale_load(scale, &c->scale, e)) return e->code;
+        c->abs_scale = c->scale;
         if (o->report && (kt_curvrun_join(scale, share, "colour/difference.tsv", e) || kt_topo_scale_load(scale, &c->diff_scale, e)))
             return e->code;
     }
@@ -449,7 +535,7 @@ static void ctx_free(run_ctx *c)
 {
     for (int i = 0; i < c->nstep && c->vtk; i++) free(c->vtk[i]);
     for (int i = 0; i < c->nfile; i++) free(c->file[i]);
-    free(c->vtk), free(c->file), free(c->mask), free(c->post_mask), free(c->res), free(c->u0);
+    free(c->vtk), free(c->num), free(c->file), free(c->mask), free(c->post_mask), free(c->res), free(c->u0);
     kt_section_free(&c->section);
     free(c->plan_in);
 }
@@ -475,7 +561,8 @@ int kt_curv_run(const kt_curv_opts *o, FILE *out, kt_err *e)
             c->meridian_src = "the steep meridian of step 0";
         }
         c->meridian = fmod(fmod(c->meridian, 180) + 180, 180);
-        rc = kt_curvrun_write_tables(c, e);
+        rc = auto_maps(c, e);
+        if (rc == KT_OK) rc = kt_curvrun_write_tables(c, e);
     }
     if (rc == KT_OK && o->run_dir) rc = kt_curvrun_write_pvd(c, e);
     if (rc == KT_OK && o->report) rc = kt_curvrun_write_report(c, e);

@@ -24,6 +24,10 @@ typedef struct kt_curv_opts {
     const char *share;       /* share folder; NULL: $KERATOME_SHARE, else the build's share/ */
     int report;              /* write report.html (needs the maps' colour scales) */
     int json;                /* the summary as JSON instead of text */
+    int scale_auto;          /* --scale auto: a relative scale over the run's powers */
+    int step_sel;            /* --step N: step 0 and step N only (-1: every step) */
+    double arc_sel;          /* --arc DEG: step 0 and the step with DEG of arc (NaN: none) */
+    int eye_os;              /* --eye OS: the report draws a left eye (default OD) */
 } kt_curv_opts;
 
 void kt_curv_opts_default(kt_curv_opts *o);
@@ -33,5 +37,9 @@ void kt_curv_opts_default(kt_curv_opts *o);
  * of the step VTKs) into the output folder (all or nothing) and print the summary (text, or
  * JSON with o->json) on `summary`. */
 int kt_curv_run(const kt_curv_opts *o, FILE *summary, kt_err *e);
+
+/* The page comparing two runs that curvature has read (their curvature.tsv, run.yaml and
+ * plan): out/compare.html (curvature(1), --compare). */
+int kt_curv_compare(const char *run_a, const char *run_b, const char *outdir, kt_err *e);
 
 #endif

@@ -23,6 +23,10 @@ int kt_vtk_write_tets(const char *path, const kt_mesh *m, const kt_vtk_field *f,
 /* Triangles (3 nodes each) as POLYDATA with the given fields. Atomic. */
 int kt_vtk_write_polydata(const char *path, int nn, const double *xyz, int ntri, const int *tri,
                           const kt_vtk_field *f, int nf, int binary, kt_err *e);
+/* The same triangles as an UNSTRUCTURED_GRID of VTK_TRIANGLE (5) cells: the form that every
+ * legacy reader takes, meshio included (it reads no POLYDATA). Atomic. */
+int kt_vtk_write_tri_grid(const char *path, int nn, const double *xyz, int ntri, const int *tri,
+                          const kt_vtk_field *f, int nf, int binary, kt_err *e);
 
 /* What the reader returns: points, cells (VTK types and connectivity), fields. */
 typedef struct kt_vtk {

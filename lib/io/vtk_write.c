@@ -147,16 +147,23 @@ static int write_tets(vw *w, const kt_mesh *m, const kt_vtk_field *f, int nf, kt
     return KT_OK;
 }
 
+/* Triangles as POLYDATA POLYGONS, or (grid) as an UNSTRUCTURED_GRID of VTK_TRIANGLE cells. */
 static int write_poly(vw *w, int nn, const double *xyz, int ntri, const int *tri,
-                      const kt_vtk_field *f, int nf, kt_err *e)
+                      const kt_vtk_field *f, int nf, int grid, kt_err *e)
 {
-    write_header(w, "keratome triangles", "POLYDATA", nn, xyz);
-    fprintf(w->f, "POLYGONS %d %zu\n", ntri, 4 * (size_t)ntri);
+    write_header(w, "keratome triangles", grid ? "UNSTRUCTURED_GRID" : "POLYDATA", nn, xyz);
+    fprintf(w->f, "%s %d %zu\n", grid ? "CELLS" : "POLYGONS", ntri, 4 * (size_t)ntri);
     for (int i = 0; i < ntri; i++) {
         int row[4] = {3, tri[3 * (size_t)i], tri[3 * (size_t)i + 1], tri[3 * (size_t)i + 2]};
         put_ints(w, row, 4, 4);
     }
     end_block(w);
+    if (grid) {
+        int type = VTK_TRIANGLE;
+        fprintf(w->f, "CELL_TYPES %d\n", ntri);
+        for (int i = 0; i < ntri; i++) put_ints(w, &type, 1, 1);
+        end_block(w);
+    }
     if (count_fields(f, nf, 1)) {
         fprintf(w->f, "CELL_DATA %d\n", ntri);
         if (put_fields(w, f, nf, 1, (size_t)ntri, e)) return e->code;
@@ -195,18 +202,30 @@ int kt_vtk_write_tets(const char *path, const kt_mesh *m, const kt_vtk_field *f,
     return kt_out_commit(&o, e);
 }
 
-int kt_vtk_write_polydata(const char *path, int nn, const double *xyz, int ntri, const int *tri,
-                          const kt_vtk_field *f, int nf, int binary, kt_err *e)
+static int write_triangles(const char *path, int nn, const double *xyz, int ntri, const int *tri,
+                           const kt_vtk_field *f, int nf, int binary, int grid, kt_err *e)
 {
     if (check_fields(f, nf, 0, e) || check_nodes(tri, 3 * (size_t)ntri, nn, "triangle node entry", e))
         return e->code;
     kt_out o;
     if (kt_out_open(&o, path, e)) return e->code;
     vw w = {o.f, binary, host_is_little()};
-    if (write_poly(&w, nn, xyz, ntri, tri, f, nf, e)) {
+    if (write_poly(&w, nn, xyz, ntri, tri, f, nf, grid, e)) {
         kt_out_abort(&o);
         return e->code;
     }
     return kt_out_commit(&o, e);
 }
 
+
+int kt_vtk_write_polydata(const char *path, int nn, const double *xyz, int ntri, const int *tri,
+                          const kt_vtk_field *f, int nf, int binary, kt_err *e)
+{
+    return write_triangles(path, nn, xyz, ntri, tri, f, nf, binary, 0, e);
+}
+
+int kt_vtk_write_tri_grid(const char *path, int nn, const double *xyz, int ntri, const int *tri,
+                          const kt_vtk_field *f, int nf, int binary, kt_err *e)
+{
+    return write_triangles(path, nn, xyz, ntri, tri, f, nf, binary, 1, e);
+}

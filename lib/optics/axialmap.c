@@ -53,6 +53,30 @@ int kt_topo_scale_bin(const kt_topo_scale *s, double power)
     return i;
 }
 
+int kt_topo_scale_auto(const kt_topo_scale *like, double lo, double hi, kt_topo_scale *s, kt_err *e)
+{
+    static const double W[] = {0.25, 0.5, 1, 1.5, 3};
+    memset(s, 0, sizeof *s);
+    if (!isfinite(lo) || !isfinite(hi) || hi < lo || like->n < 1)
+        return kt_fail(e, KT_ERUN, "relative colour scale: no finite power range (%g to %g D)", lo, hi);
+    double w = W[4], a = 0;
+    int n = 0;
+    for (int k = 0; k < 5; k++) {
+        w = W[k], a = floor(lo / w) * w;
+        n = (int)ceil((hi - a) / w - 1e-9);
+        if (n < 1) n = 1;
+        if (n <= 24) break;
+    }
+    if (n > KT_TOPO_MAXBIN) return kt_fail(e, KT_ERUN, "relative colour scale: range %g to %g D too wide", lo, hi);
+    s->n = n;
+    for (int i = 0; i < n; i++) {
+        int j = n > 1 ? (int)lround((double)i * (like->n - 1) / (n - 1)) : like->n / 2;
+        s->lo[i] = a + i * w, s->hi[i] = a + (i + 1) * w;
+        memcpy(s->rgb[i], like->rgb[j], 3);
+    }
+    return KT_OK;
+}
+
 /* ---------------------------------------------------------------- bitmap font 5x7 */
 
 typedef struct glyph {
@@ -219,21 +243,49 @@ static void draw_axis_marks(kt_topo_image *img, const kt_topo_layout *L)
     }
 }
 
-/* Swatches from the highest bin at the top; every other boundary labelled in D. */
+int kt_topo_legend_labels(const kt_topo_scale *s, double *val, double *pos, int max)
+{
+    int z = -1, n = 0;
+    for (int i = 0; i < s->n; i++)
+        if (s->lo[i] < 0 && s->hi[i] > 0) z = i;
+    if (z >= 0) { /* a diverging scale: the centres of every other bin, 0's bin among them */
+        for (int i = z % 2; i < s->n && n < max; i += 2, n++) {
+            double c = 0.5 * (s->lo[i] + s->hi[i]);
+            val[n] = i == z ? 0 : c, pos[n] = i + 0.5;
+        }
+        return n;
+    }
+    for (int i = 0; i <= s->n && n < max; i++) { /* every other boundary from the bottom, and the top */
+        if (i % 2 && i != s->n) continue;
+        if (i == s->n - 1 && s->n % 2) continue; /* would overlap the top label */
+        val[n] = i < s->n ? s->lo[i] : s->hi[s->n - 1], pos[n] = i, n++;
+    }
+    return n;
+}
+
+void kt_topo_legend_text(double v, int signed_, char *buf, size_t size)
+{
+    double r1 = round(v * 10) / 10;
+    if (v == 0) snprintf(buf, size, "0");
+    else if (fabs(v - r1) < 1e-9) snprintf(buf, size, signed_ ? "%+.1f" : "%.1f", v);
+    else snprintf(buf, size, signed_ ? "%+.2f" : "%.2f", v);
+}
+
+/* Swatches from the highest bin at the top; labels in D where kt_topo_legend_labels says. */
 static void draw_legend(kt_topo_image *img, const kt_topo_scale *s, const kt_topo_layout *L)
 {
     char buf[32];
+    double val[KT_TOPO_MAXBIN + 1], pos[KT_TOPO_MAXBIN + 1];
     for (int i = 0; i < s->n; i++) {
         int y0 = L->leg_y + (s->n - 1 - i) * L->leg_h;
         for (int y = y0; y < y0 + L->leg_h; y++)
             for (int x = L->leg_x; x < L->leg_x + L->leg_w; x++) put_pixel(img, x, y, s->rgb[i]);
     }
-    for (int i = 0; i <= s->n; i++) {
-        int y = L->leg_y + (s->n - i) * L->leg_h;
+    int nl = kt_topo_legend_labels(s, val, pos, KT_TOPO_MAXBIN + 1), diverging = s->n > 0 && s->lo[0] < 0;
+    for (int k = 0; k < nl; k++) {
+        int y = (int)lround(L->leg_y + (s->n - pos[k]) * L->leg_h);
         draw_line(img, L->leg_x + L->leg_w, y, L->leg_x + L->leg_w + 4, y, BLACK);
-        if (i % 2 && i != s->n) continue; /* every other boundary from the bottom, and the top */
-        if (i == s->n - 1 && s->n % 2) continue; /* would overlap the top label */
-        snprintf(buf, sizeof buf, "%.1f", i < s->n ? s->lo[i] : s->hi[s->n - 1]);
+        kt_topo_legend_text(val[k], diverging, buf, sizeof buf);
         draw_text(img, L->leg_x + L->leg_w + 7, y - 7 * FONT / 2, FONT, BLACK, buf);
     }
     draw_text(img, L->leg_x + L->leg_w / 2 - 5 * FONT / 2, L->leg_y - 10 * FONT, FONT, BLACK, "D");

@@ -24,6 +24,20 @@ int kt_topo_scale_load(const char *path, kt_topo_scale *s, kt_err *e);
 /* The bin of a power value (clamped to the scale; NaN gives -1). */
 int kt_topo_scale_bin(const kt_topo_scale *s, double power);
 
+/* The legend's labels: val[k] (D) at pos[k] bins from the bottom of the legend (an edge at an
+ * integer, a bin centre at +0.5); at most max. A diverging scale (a bin straddling 0, as the
+ * difference scale) labels the centres of every other bin so that 0 and its symmetric round
+ * values (+-0.5, +-1.0, ...) show; an absolute scale every other edge. Returns the count. */
+int kt_topo_legend_labels(const kt_topo_scale *s, double *val, double *pos, int max);
+/* A label as the legend prints it: "0", one decimal when exact ("42.0", "+0.5"), else two;
+ * signed_ adds the sign (difference scales). */
+void kt_topo_legend_text(double v, int signed_, char *buf, size_t size);
+
+/* A relative ("auto") scale: bins of a width from 0.25, 0.5, 1, 1.5, 3 D (the smallest giving at
+ * most 24 bins) aligned to multiples of it, covering [lo, hi] D, coloured by sampling the
+ * colours of `like` evenly from its first to its last bin (cool flat, warm steep). */
+int kt_topo_scale_auto(const kt_topo_scale *like, double lo, double hi, kt_topo_scale *s, kt_err *e);
+
 typedef struct kt_topo_image {
     int w, h;
     unsigned char *rgb;   /* w*h*3, row-major from the top */

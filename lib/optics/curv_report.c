@@ -45,7 +45,11 @@ static const char CSS[] =
     ".v-dv line{stroke:#e67e22;stroke-width:2;stroke-dasharray:3 3}.v-dv polygon{fill:#e67e22}\n"
     ".polar{fill:none;stroke:#dfe3e7}.sec-ref{fill:none;stroke:#c5ccd3;stroke-width:.5}\n"
     ".sec-def{fill:#f3d9b1;stroke:#9a7b4f;stroke-width:.35}.sec-axis{stroke:#5b6670;stroke-width:1}\n"
-    ".note{font-size:13px;color:#3d4750}\n";
+    ".note{font-size:13px;color:#3d4750}\n"
+    ".verdict{font-size:16px;font-weight:600;margin:14px 0 0;padding:10px 14px;border-radius:8px;background:#fff;border-left:6px solid #c0392b}\n"
+    ".verdict.ok{border-left-color:#27ae60}\n"
+    ".strip{display:flex;flex-wrap:wrap;gap:8px}.strip figure{flex:0 1 210px;padding:6px}\n"
+    ".nsti{font-size:15px;font-weight:700;fill:#18324a}.bar{stroke:#1d232a;stroke-width:3}\n";
 
 /* ---------------------------------------------------------------- small helpers */
 
@@ -73,6 +77,33 @@ static void card(FILE *f, const char *value, const char *what)
     fputs("</b><span>", f);
     kt_html_text(f, what);
     fputs("</span></div>\n", f);
+}
+
+static double axis_gap(double a, double b)
+{
+    double d = fmod(fabs(a - b), 180);
+    return d > 90 ? 180 - d : d;
+}
+
+void kt_report_verdict(kt_astig pre, kt_astig post, const kt_alpins *va, int has_target, char *buf, size_t size)
+{
+    int n;
+    if (has_target && isfinite(va->ci)) {
+        const char *what = va->ci > 1.1 ? "Over-correction" : va->ci < 0.9 ? "Under-correction" : "On target";
+        n = snprintf(buf, size, "%s: the induced astigmatism is %.2f D against the %.2f D intended (correction "
+                     "index %.2f; 0.9 to 1.1 reads as on target)", what, va->sia.mag, va->tia.mag, va->ci);
+    } else {
+        n = snprintf(buf, size, "No target in the plan: the induced astigmatism is %.2f D @ %.0f\xC2\xB0", va->sia.mag,
+                     axis180(va->sia.axis));
+    }
+    if (n < 0 || (size_t)n >= size) return;
+    if (axis_gap(pre.axis, post.axis) > 45 && post.mag >= 0.25)
+        snprintf(buf + n, size - n, "; the cylinder's axis flips: %.2f D @ %.0f\xC2\xB0 before, %.2f D @ %.0f\xC2\xB0 "
+                 "after (the steep meridian is now the one that was flat)", pre.mag, axis180(pre.axis), post.mag,
+                 axis180(post.axis));
+    else
+        snprintf(buf + n, size - n, "; cylinder %.2f D @ %.0f\xC2\xB0 before, %.2f D @ %.0f\xC2\xB0 after", pre.mag,
+                 axis180(pre.axis), post.mag, axis180(post.axis));
 }
 
 double kt_report_exaggeration(double max_disp, double target)
@@ -149,17 +180,35 @@ static int maps(FILE *f, const kt_report *r, kt_err *e)
                "dashed circle: the %.0f mm keratometry zone.</figcaption></figure>\n<figure>",
             2 * r->rad_pre, r->zone);
     map_frame(&m, r->map_post, r->rad_post, r->zone);
-    snprintf(m.title[0], sizeof m.title[0], "FINAL AXIAL POWER (D)  STEP %d", r->nstep - 1);
+    snprintf(m.title[0], sizeof m.title[0], "FINAL AXIAL POWER (D)  STEP %d", r->num[r->nstep - 1]);
     snprintf(m.title[1], sizeof m.title[1], "SIM K %.2f@%.0f\xC2\xB0 / %.2f@%.0f\xC2\xB0  CYL %.2f", sl->k.k_steep,
              axis180(sl->k.axis_steep), sl->k.k_flat, axis180(sl->k.axis_steep + 90), sl->k.cyl);
     if ((rc = map_img(f, r->scale, &m, axial_of, r->map_post, "final axial power map", e))) return rc;
-    fprintf(f, "<figcaption><b>After the last step</b>, same absolute scale (%.1f&ndash;%.1f D, %.1f D bins): a colour "
+    fprintf(f, "<figcaption><b>After the last step</b>, same %s scale (%.2f&ndash;%.2f D, %.2f D bins): a colour "
                "means the same power on both maps.</figcaption></figure>\n</div>\n",
-            r->scale->lo[0], r->scale->hi[r->scale->n - 1], r->scale->hi[0] - r->scale->lo[0]);
+            r->scale_auto ? "relative" : "absolute", r->scale->lo[0], r->scale->hi[r->scale->n - 1],
+            r->scale->hi[0] - r->scale->lo[0]);
+    if (r->rel_scale && !r->scale_auto) {
+        const kt_topo_scale *rs = r->rel_scale;
+        fputs("<div class=\"row\" id=\"relative\">\n<figure>", f);
+        map_frame(&m, r->map_pre, r->rad_pre, r->zone);
+        snprintf(m.title[0], sizeof m.title[0], "PRE-OP AXIAL POWER (D)  RELATIVE SCALE");
+        snprintf(m.title[1], sizeof m.title[1], "%.2f D BINS OVER THIS RUN", rs->hi[0] - rs->lo[0]);
+        if ((rc = map_img(f, rs, &m, axial_of, r->map_pre, "pre-operative axial power map, relative scale", e))) return rc;
+        fputs("<figcaption>Pre-operative, <b>relative scale</b>.</figcaption></figure>\n<figure>", f);
+        map_frame(&m, r->map_post, r->rad_post, r->zone);
+        snprintf(m.title[0], sizeof m.title[0], "FINAL AXIAL POWER (D)  RELATIVE SCALE");
+        if ((rc = map_img(f, rs, &m, axial_of, r->map_post, "final axial power map, relative scale", e))) return rc;
+        fprintf(f, "<figcaption>After the last step, <b>relative scale</b>: %.2f D bins from %.2f to %.2f D, the range of "
+                   "this run's maps (the widest of 0.25, 0.5, 1, 1.5, 3 D giving at most 24 bins; curvature --scale "
+                   "auto draws every map so). It shows a small toric cornea's bow-tie that the absolute 1.5 D "
+                   "bins turn into two colours; its colours do not compare across eyes.</figcaption></figure>\n</div>\n",
+                rs->hi[0] - rs->lo[0], rs->lo[0], rs->hi[rs->n - 1]);
+    }
 
     fputs("<h2>3. Tangential power and the change</h2>\n<div class=\"row\">\n<figure>", f);
     map_frame(&m, r->map_post, r->rad_post, r->zone);
-    snprintf(m.title[0], sizeof m.title[0], "FINAL TANGENTIAL POWER (D)  STEP %d", r->nstep - 1);
+    snprintf(m.title[0], sizeof m.title[0], "FINAL TANGENTIAL POWER (D)  STEP %d", r->num[r->nstep - 1]);
     snprintf(m.title[1], sizeof m.title[1], "LOCAL CURVATURE ALONG EACH RADIUS");
     if ((rc = map_img(f, r->scale, &m, tangential_of, r->map_post, "final tangential power map", e))) return rc;
     fputs("<figcaption><b>Tangential</b> (instantaneous) power after surgery, same scale: the local curvature "
@@ -171,8 +220,16 @@ static int maps(FILE *f, const kt_report *r, kt_err *e)
     snprintf(m.title[1], sizeof m.title[1], "AXIAL POWER, SAME POINTS IN SPACE");
     if ((rc = map_img(f, r->diff_scale, &m, diff_of, &tf, "difference map, final minus pre-operative", e))) return rc;
     fputs("<figcaption><b>Difference map</b>, final minus pre-operative axial power at the same place: blue "
-          "flattened, red steepened. The incised meridian flattens, the one at 90&deg; to it steepens (coupling)."
-          "</figcaption></figure>\n</div>\n", f);
+          "flattened, red steepened, white unchanged. The incised meridian flattens, the one at 90&deg; to it "
+          "steepens (coupling). Legend labels (D, at bin centres): <span class=\"legend\" id=\"diff-legend\">", f);
+    double val[KT_TOPO_MAXBIN + 1], pos[KT_TOPO_MAXBIN + 1];
+    int nl = kt_topo_legend_labels(r->diff_scale, val, pos, KT_TOPO_MAXBIN + 1);
+    for (int k = 0; k < nl; k++) {
+        char b[32];
+        kt_topo_legend_text(val[k], 1, b, sizeof b);
+        fprintf(f, "%s%s", k ? " " : "", b);
+    }
+    fprintf(f, "</span>; bins %.2f D wide.</figcaption></figure>\n</div>\n", r->diff_scale->hi[0] - r->diff_scale->lo[0]);
     return KT_OK;
 }
 
@@ -192,11 +249,15 @@ static void eye_diagram(FILE *f, const kt_report *r)
     for (int t = 0; t < 360; t += 30)
         kt_svg_text(f, C + 218 * cos(t * DEG), C - 218 * sin(t * DEG) + 4, "middle", "tick", "%d\xC2\xB0", t);
     kt_svg_circle(f, C, C, 0.5 * r->zone * s, "kzone");
-    if (eye && eye->optical_zone > 0) {
-        kt_svg_circle(f, C, C, 0.5 * eye->optical_zone * s, "oz");
-        double ro = 0.5 * eye->optical_zone * s;
-        kt_svg_text(f, C + 8, C + ro - 8, "start", "small", "refined mesh zone %.1f mm", eye->optical_zone);
-    }
+    /* orientation: superior up; nasal toward the nose (OD: the examiner's right, 0 deg) */
+    kt_svg_text(f, C + 34, 20, "middle", "nsti", "S");
+    kt_svg_text(f, C + 34, W - 6, "middle", "nsti", "I");
+    kt_svg_text(f, W - 10, C - 14, "middle", "nsti", "%s", r->eye_os ? "T" : "N");
+    kt_svg_text(f, 10, C - 14, "middle", "nsti", "%s", r->eye_os ? "N" : "T");
+    kt_svg_text(f, 6, 18, "start", "nsti", "%s", r->eye_os ? "OS" : "OD");
+    kt_svg_text(f, 6, 34, "start", "small", "%s eye, front view", r->eye_os ? "left" : "right");
+    kt_svg_line(f, W - 16 - 5 * s, W - 22, W - 16, W - 22, "bar");
+    kt_svg_text(f, W - 16 - 2.5 * s, W - 30, "middle", "small", "5 mm");
     const kt_report_step *s0 = r->step;
     double ax = s0->k.axis_steep;
     kt_svg_line(f, C + 200 * cos(ax * DEG), C - 200 * sin(ax * DEG), C - 200 * cos(ax * DEG), C + 200 * sin(ax * DEG), "steep");
@@ -225,16 +286,19 @@ static void plan_section(FILE *f, const kt_report *r)
     fputs("<h2>1. The plan on the eye</h2>\n<div class=\"row\">\n<figure style=\"flex:0 1 460px\">", f);
     eye_diagram(f, r);
     fputs("<figcaption>The eye seen from the front, as the examiner sees it (TABO: 0&deg; at the examiner's right, "
-          "angles counter-clockwise). Red arcs: the incisions. Orange dashed line: the pre-operative steep meridian, measured "
-          "on step 0. Grey dashed circles: the incision ring (its optical-zone diameter, OZ) and the keratometry "
-          "zone; green dotted: the zone where the scene refines the mesh.</figcaption></figure>\n<div style=\"flex:1 1 300px\"><table>\n"
+          "angles counter-clockwise). S superior, I inferior, N nasal, T temporal: for a right eye (OD) the nose is "
+          "at the examiner's right; curvature --eye OS draws a left eye. Red arcs: the incisions. Orange dashed line: "
+          "the pre-operative steep meridian, measured on step 0. Grey dashed circles: the incision ring (its "
+          "optical-zone diameter, OZ) and the keratometry zone. The bar is 5 mm.</figcaption></figure>\n"
+          "<div style=\"flex:1 1 300px\"><table>\n"
           "<tr><th>incision</th><th>centre</th><th>arc</th><th>ring</th><th>depth</th><th>blade</th></tr>\n", f);
     static const char *DIR[] = {"clockwise", "counter-clockwise", "centre out"};
     for (int i = 0; r->plan && i < r->plan->ninc; i++) {
         const kt_incision *in = r->plan->inc + i;
         fprintf(f, "<tr><td>%d%s</td>", i + 1, in->paired ? " (paired)" : "");
         fprintf(f, "<td class=\"n\">%.0f&deg;%s</td>", in->meridian, in->paired ? " and opposite" : "");
-        fprintf(f, "<td class=\"n\">%.0f&deg; (%.2f mm)</td>", in->arc, in->arc * DEG * 0.5 * in->diameter);
+        fprintf(f, "<td class=\"n\">%.0f&deg; (arc length %.2f mm, chord %.2f mm)</td>", in->arc,
+                in->arc * DEG * 0.5 * in->diameter, in->diameter * sin(0.5 * in->arc * DEG));
         fprintf(f, "<td class=\"n\">%.1f mm</td>", in->diameter);
         if (in->depth_fraction > 0) fprintf(f, "<td class=\"n\">%.0f%%</td>", 100 * in->depth_fraction);
         else fprintf(f, "<td class=\"n\">%.0f &micro;m</td>", 1000 * in->depth);
@@ -263,16 +327,18 @@ static int step_plot(FILE *f, const kt_report *r, const char *label, int nser, c
         for (int i = 0; i < n; i++)
             if (isfinite(y[k][i])) lo = fmin(lo, y[k][i]), hi = fmax(hi, y[k][i]);
     kt_svg_nice_range(&lo, &hi, 5);
-    kt_svg_plot p = {70, 12, W - 90, H - 70, 0, n > 1 ? n - 1 : 1, lo, hi};
+    kt_svg_plot p = {70, 12, W - 90, H - 70, 0, n > 1 ? r->num[n - 1] : 1, lo, hi};
     double *x = kt_calloc(n > 0 ? n : 1, sizeof(double), e);
     if (!x) return e->code;
-    for (int i = 0; i < n; i++) x[i] = i;
+    for (int i = 0; i < n; i++) x[i] = r->num[i];
     kt_svg_begin(f, W, H, label);
     kt_svg_axes(f, &p, "%.0f", "%.2f", "", ytitle);
     int arcs = n > 0 && isfinite(r->step[n - 1].arc);
     double sx = kt_svg_nice_step(p.x1 - p.x0, 6);
     for (double v = 0; arcs && v <= p.x1 + 1e-9; v += sx)
-        kt_svg_text(f, kt_svg_px(&p, v), p.y + p.h + 30, "middle", "small", "%.0f\xC2\xB0", r->step[(int)lround(v)].arc);
+        for (int i = 0; i < n; i++)
+            if (r->num[i] == (int)lround(v))
+                kt_svg_text(f, kt_svg_px(&p, v), p.y + p.h + 30, "middle", "small", "%.0f\xC2\xB0", r->step[i].arc);
     kt_svg_text(f, p.x + p.w / 2, p.y + p.h + 50, "middle", "axtitle",
                 arcs ? "step (above) and degrees of arc opened per incision (below)" : "step");
     for (int k = 0; k < nser; k++) {
@@ -300,7 +366,10 @@ static int step_plots(FILE *f, const kt_report *r, kt_err *e)
     }
     fputs("<h2>4. The cut, step by step</h2>\n<div class=\"row\">\n<figure>", f);
     const double *y1[] = {fl, st, sia};
-    const char *n1[] = {"flattening of the incised meridian", "steepening at 90\xC2\xB0", "SIA"};
+    char l1[96], l2[96];
+    snprintf(l1, sizeof l1, "flattening of the incised meridian (%.0f\xC2\xB0)", axis180(r->meridian));
+    snprintf(l2, sizeof l2, "steepening of the orthogonal one (%.0f\xC2\xB0)", axis180(r->meridian + 90));
+    const char *n1[] = {l1, l2, "SIA"};
     int rc = step_plot(f, r, "flattening, steepening and SIA against step", 3, y1, n1, "dioptres", e);
     fprintf(f, "<figcaption><b>Flattening</b> of the incised meridian (%.0f&deg;) and <b>steepening</b> of the "
                "orthogonal one, both against step 0, and the magnitude of the <b>surgically induced "
@@ -315,6 +384,11 @@ static int step_plots(FILE *f, const kt_report *r, kt_err *e)
         fprintf(f, " and the <b>total corneal astigmatism</b> (anterior + posterior surface, thick lens, indices "
                    "%.3f / %.3f / %.3f)", r->n->air, r->n->cornea, r->n->aqueous);
     fputs(".</figcaption></figure>\n</div>\n", f);
+    if (r->axis_note) {
+        fputs("<p class=\"note\" id=\"axis-note\"><b>Why the steep axis moves:</b> ", f);
+        kt_html_text(f, r->axis_note);
+        fputs("</p>\n", f);
+    }
     free(v);
     return rc;
 }
@@ -374,7 +448,7 @@ static void alpins_table(FILE *f, const kt_report *r)
     fputs("<table>\n<tr><th>vector / index</th><th>value</th><th>axis</th></tr>\n", f);
     fputs("<tr><td>pre-op astigmatism (step 0)</td>", f);
     cell(f, "%.2f D", s0->k.cyl), cell(f, "%.1f&deg;", axis180(s0->k.axis_steep));
-    fprintf(f, "</tr>\n<tr><td>post-op astigmatism (step %d)</td>", r->nstep - 1);
+    fprintf(f, "</tr>\n<tr><td>post-op astigmatism (step %d)</td>", r->num[r->nstep - 1]);
     cell(f, "%.2f D", sl->k.cyl), cell(f, "%.1f&deg;", axis180(sl->k.axis_steep));
     fputs("</tr>\n<tr><td>target induced astigmatism, TIA</td>", f);
     cell(f, "%.2f D", a->tia.mag), cell(f, "%.1f&deg;", axis180(a->tia.axis));
@@ -396,7 +470,7 @@ static void alpins_table(FILE *f, const kt_report *r)
     cell(f, "%.2f", fabs(sl->steep) > 1e-9 ? sl->flat / sl->steep : NAN);
     fputs("<td></td></tr>\n</table>\n", f);
     fputs("<p class=\"note\">Alpins NA, J Cataract Refract Surg 1993;19:524-533 and 2001;27:31-49. CI &gt; 1: "
-          "overcorrection; AE &gt; 0: the treatment acted counter-clockwise of its intended axis; IOS 0 is "
+          "over-correction, CI &lt; 1: under-correction; AE &gt; 0: the treatment acted counter-clockwise of its intended axis; IOS 0 is "
           "perfect.</p>\n", f);
 }
 
@@ -423,7 +497,8 @@ static void section_fig(FILE *f, const kt_report *r)
     kt_svg_plot p = {60, 10, W - 90, (zhi - zlo) * pxmm, rl, rh, zlo, zhi};
     fputs("<h2>6. Through the wound</h2>\n<figure>", f);
     kt_svg_begin(f, W, H, "meridional section through an incision, displacement exaggerated");
-    kt_svg_axes(f, &p, "%.1f", "%.1f", "distance from the axis along the meridian (mm)", "height z (mm)");
+    kt_svg_axes(f, &p, "%.1f", "%.1f", "distance from the optical axis along the meridian (mm)",
+                "height z along the optical axis (mm)");
     double xy[8];
     for (int i = 0; i < s->n; i++) {
         for (int k = 0; k < s->nv[i]; k++)
@@ -440,15 +515,19 @@ static void section_fig(FILE *f, const kt_report *r)
     if (isfinite(ztop)) {
         double X = kt_svg_px(&p, 0.5 * (s->r0 + s->r1)), Y = kt_svg_py(&p, ztop);
         kt_svg_arrow(f, X + 40, Y - 40, X + 4, Y - 4, 10, "v-sia");
-        kt_svg_text(f, X + 44, Y - 44, "start", "lbl", "incision (before surgery)");
+        kt_svg_text(f, X + 44, Y - 44, "start", "lbl", "the incision: its wound gap after the last step (tan)");
     }
     kt_svg_end(f);
     fprintf(f, "<figcaption>Meridional section at %.0f&deg; through the middle of an incision, %.1f to %.1f mm from "
-               "the axis, true aspect ratio. Tan: the tissue after the last step, its displacement since "
-               "step 0 <b>exaggerated %.0f&times;</b> (largest in-plane displacement %.1f &micro;m); grey outlines: "
-               "before surgery. The gap is the wound opening under intraocular pressure: its two faces are "
-               "%.1f &micro;m apart at most (true size).</figcaption></figure>\n",
-            s->meridian, s->r0, s->r1, F, 1000 * s->max_disp, 1000 * s->gape);
+               "the axis, true aspect ratio. Heights z are in the model's frame: along the optical axis, the "
+               "pre-operative corneal apex at z = %.3f mm (step 0's fitted apex). Tan: the tissue after the last "
+               "step, its displacement since step 0 <b>exaggerated %.0f&times;</b> (largest in-plane displacement "
+               "%.1f &micro;m); grey outlines: before surgery. The gap is the wound opening under intraocular "
+               "pressure. <span id=\"gape\">Gape, true size: <b>%.1f &micro;m</b>, the largest distance between the "
+               "two copies of a node split by the cut (the wound's two faces) among nodes within 0.5 mm of this "
+               "section's plane; <b>%.1f &micro;m</b> over the whole wound (every node the plan split, in the last "
+               "step's VTK)</span>.</figcaption></figure>\n",
+            s->meridian, s->r0, s->r1, r->apex_z, F, 1000 * s->max_disp, 1000 * s->gape, 1000 * s->gape_all);
 }
 
 /* ---------------------------------------------------------------- provenance */
@@ -465,7 +544,7 @@ static void prov_row(FILE *f, const char *k, const char *v)
 static void provenance(FILE *f, const kt_report *r)
 {
     char buf[256];
-    fputs("<h2>7. Provenance</h2>\n<table>\n", f);
+    fputs("<h2>7. Provenance</h2>\n<table id=\"provenance\">\n", f);
     prov_row(f, "keratome", r->version);
     prov_row(f, "run folder", r->run_dir);
     prov_row(f, "scene", r->plan ? r->plan->scene_path : NULL);
@@ -481,6 +560,7 @@ static void provenance(FILE *f, const kt_report *r)
     snprintf(buf, sizeof buf, "%s over %.0f mm; K = 337.5 / R; total power: thick lens, n %.3f / %.3f / %.3f "
                               "(Gullstrand)", r->fit_name, r->zone, r->n->air, r->n->cornea, r->n->aqueous);
     prov_row(f, "keratometry", buf);
+    for (int i = 0; i < r->nprov; i++) prov_row(f, r->prov[2 * i], r->prov[2 * i + 1]);
     fputs("</table>\n", f);
     if (r->run_yaml) {
         fputs("<p class=\"note\">run.yaml (augsolve's record of the solve):</p><pre>", f);
@@ -498,13 +578,47 @@ static void step_table(FILE *f, const kt_report *r)
           "<th>steepening</th><th>SIA</th><th>total cyl</th></tr>\n", f);
     for (int i = 0; i < r->nstep; i++) {
         const kt_report_step *s = r->step + i;
-        fprintf(f, "<tr><td class=\"n\">%d</td>", i);
+        fprintf(f, "<tr><td class=\"n\">%d</td>", r->num[i]);
         cell(f, "%.0f&deg;", s->arc), cell(f, "%.2f", s->k.k_steep), cell(f, "%.1f&deg;", axis180(s->k.axis_steep));
         cell(f, "%.2f", s->k.k_flat), cell(f, "%.2f", s->k.cyl), cell(f, "%+.3f", s->flat), cell(f, "%+.3f", s->steep);
         cell(f, "%.3f", s->va.sia.mag), cell(f, "%.2f", s->tot.tot_cyl);
         fputs("</tr>\n", f);
     }
-    fputs("</table></details>\n", f);
+    fputs("</table>", f);
+    if (r->axis_note) {
+        fputs("<p class=\"note\">The axis column: ", f);
+        kt_html_text(f, r->axis_note);
+        fputs("</p>", f);
+    }
+    fputs("</details>\n", f);
+}
+
+/* Every step's axial map, in a strip (a class can step through the cut without a script). */
+static int strip(FILE *f, const kt_report *r, kt_err *e)
+{
+    if (!r->maps) return KT_OK;
+    /* the relative scale when there is one: the change from step to step shows in it */
+    const kt_topo_scale *sc = r->rel_scale ? r->rel_scale : r->scale;
+    fprintf(f, "<details open id=\"strip\"><summary class=\"note\">every step's axial map (%s scale, %.2f&ndash;%.2f D "
+               "in %.2f D bins, as in section 2)</summary><div class=\"strip\">\n",
+            r->rel_scale || r->scale_auto ? "relative" : "absolute", sc->lo[0], sc->hi[sc->n - 1], sc->hi[0] - sc->lo[0]);
+    for (int i = 0; i < r->nstep; i++) {
+        kt_topo_map m;
+        map_frame(&m, r->maps[i], r->map_rad[i], r->zone);
+        const kt_report_step *s = r->step + i;
+        snprintf(m.title[0], sizeof m.title[0], "STEP %d", r->num[i]);
+        snprintf(m.title[1], sizeof m.title[1], "CYL %.2f@%.0f\xC2\xB0", s->k.cyl, axis180(s->k.axis_steep));
+        char alt[64];
+        snprintf(alt, sizeof alt, "axial power map, step %d", r->num[i]);
+        fputs("<figure>", f);
+        int rc = map_img(f, sc, &m, axial_of, r->maps[i], alt, e);
+        if (rc) return rc;
+        fprintf(f, "<figcaption>step %d", r->num[i]);
+        if (isfinite(s->arc)) fprintf(f, ", %.0f&deg; of arc", s->arc);
+        fprintf(f, ": %.2f D @ %.0f&deg;</figcaption></figure>\n", s->k.cyl, axis180(s->k.axis_steep));
+    }
+    fputs("</div></details>\n", f);
+    return KT_OK;
 }
 
 static void cards(FILE *f, const kt_report *r)
@@ -545,6 +659,11 @@ static int page(FILE *f, const kt_report *r, kt_err *e)
     fprintf(f, " &middot; %d step%s &middot; simulated by keratome ", r->nstep - 1, r->nstep == 2 ? "" : "s");
     kt_html_text(f, r->version);
     fputs("</p></header>\n<main>\n", f);
+    if (r->verdict) {
+        fprintf(f, "<p class=\"verdict%s\" id=\"verdict\">", strncmp(r->verdict, "On target", 9) == 0 ? " ok" : "");
+        kt_html_text(f, r->verdict);
+        fputs("</p>\n", f);
+    }
     cards(f, r);
     fputs("<p class=\"note\">A finite element model of the eye is cut step by step as the plan says; after every "
           "step the deformed cornea is measured the way a keratometer and a topographer measure a patient. "
@@ -556,6 +675,7 @@ static int page(FILE *f, const kt_report *r, kt_err *e)
     if (rc == KT_OK) rc = step_plots(f, r, e);
     if (rc != KT_OK) return rc;
     step_table(f, r);
+    if ((rc = strip(f, r, e)) != KT_OK) return rc;
     fputs("<h2>5. Astigmatism as vectors</h2>\n<div class=\"row\">\n<figure style=\"flex:0 1 460px\">", f);
     double_angle(f, r);
     fputs("<figcaption><b>Double-angle plot.</b> Astigmatism is a vector with a 180&deg; period, so each "

@@ -28,6 +28,7 @@ typedef struct kt_section {
     double max_disp;    /* largest |displacement since step 0| of a corner drawn, mm */
     double gape;        /* largest separation of two points split from one input node (the
                          * wound's faces) within 0.5 mm of the section, mm; 0: none */
+    double gape_all;    /* the same over the whole step mesh (every incision), mm */
 } kt_section;
 
 /* u0 (may be NULL: zero) is step 0's displacement by input-mesh node (3 per node, 0-based). */
@@ -64,11 +65,27 @@ typedef struct kt_report {
     double solver_ms;                 /* sum of steps.tsv's t_total_ms (NaN: unknown) */
     double curv_s;                    /* curvature's own time so far, s */
     const kt_cornea_n *n;
+    const int *num;                   /* nstep: each step's number in its run */
+    const char *verdict;              /* over-/under-correction and axis flip (NULL: none) */
+    const char *axis_note;            /* why the steep axis swings (NULL: it does not) */
+    const kt_topo_scale *rel_scale;   /* relative scale over the run's powers (NULL: none) */
+    int scale_auto;                   /* the maps' scale is the relative one (--scale auto) */
+    const kt_fit *const *maps;        /* nstep map fits (the strip of every step's map) */
+    const double *map_rad;            /* nstep their radii, mm */
+    double apex_z;                    /* step 0's fitted apex height, mm (eye frame) */
+    int eye_os;                       /* 1: a left eye (OS), 0: right (OD) */
+    int nprov;                        /* provenance rows from run.yaml: key, value pairs */
+    const char *const *prov;
 } kt_report;
 
 /* The display factor of the section: 1, 2 or 5 times a power of ten bringing the largest
  * displacement to about `target` mm on the drawing (1 when nothing moves). */
 double kt_report_exaggeration(double max_disp, double target);
+
+/* The headline: over-correction (correction index > 1.1), under-correction (< 0.9) or on target
+ * against the plan's target (else the induced astigmatism alone), then the cylinder before and
+ * after, said to flip when its steep axis moved by more than 45 deg and 0.25 D or more remain. */
+void kt_report_verdict(kt_astig pre, kt_astig post, const kt_alpins *va, int has_target, char *buf, size_t size);
 
 /* Write the page to `path` atomically. */
 int kt_curv_report_write(const char *path, const kt_report *r, kt_err *e);

@@ -94,7 +94,7 @@ static int cmp_split(const void *a, const void *b)
 
 /* Largest separation of points sharing an origin near the section's window. */
 static int wound_gape(const kt_vtk *v, const kt_vtk_field *u, const kt_vtk_field *org, const double nrm[2],
-                      const double dir[2], double r0, double r1, double *gape, kt_err *e)
+                      const double dir[2], double r0, double r1, double half, double *gape, kt_err *e)
 {
     split_pt *sp = kt_calloc(v->nn, sizeof(split_pt), e);
     if (!sp) return e->code;
@@ -102,7 +102,7 @@ static int wound_gape(const kt_vtk *v, const kt_vtk_field *u, const kt_vtk_field
     for (int i = 0; i < v->nn; i++) {
         const double *x = v->xyz + 3 * i;
         double r = dir[0] * x[0] + dir[1] * x[1];
-        if (fabs(nrm[0] * x[0] + nrm[1] * x[1]) > 0.5 || r < r0 || r > r1) continue;
+        if (fabs(nrm[0] * x[0] + nrm[1] * x[1]) > half || r < r0 || r > r1) continue;
         sp[n].origin = (int)org->v[i];
         memcpy(sp[n].u, u->v + 3 * i, sizeof sp[n].u);
         n++;
@@ -165,7 +165,8 @@ int kt_curv_section(const kt_vtk *v, const double *u0, int mesh_nn, double merid
             s->max_disp = fmax(s->max_disp, hypot(s->def[8 * s->n + 2 * i], s->def[8 * s->n + 2 * i + 1]));
         s->n++;
     }
-    if (status == KT_OK) status = wound_gape(v, u, org, nrm, dir, r0, r1, &s->gape, e);
+    if (status == KT_OK) status = wound_gape(v, u, org, nrm, dir, r0, r1, 0.5, &s->gape, e);
+    if (status == KT_OK) status = wound_gape(v, u, org, nrm, dir, -INFINITY, INFINITY, INFINITY, &s->gape_all, e);
     if (status != KT_OK) kt_section_free(s);
     return status;
 }

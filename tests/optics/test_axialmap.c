@@ -132,8 +132,44 @@ static const unsigned char *at_polar(const shot *s, double r, double t)
     return s->rgb + 3 * ((size_t)y * s->w + x);
 }
 
+/* The legend's labels: the difference scale shows 0 and symmetric round values at bin centres
+ * (it printed the edges -3.1 ... -0.1 and no 0 before); the absolute scale its edges. The
+ * relative scale covers the range in aligned bins of a listed width, at most 24. */
+static void test_legend_and_auto(void)
+{
+    kt_topo_scale d, a, r;
+    kt_err e = {0};
+    double val[KT_TOPO_MAXBIN + 1], pos[KT_TOPO_MAXBIN + 1];
+    char b[32];
+    CHECK(kt_topo_scale_load(KT_SHARE_DIR "/colour/difference.tsv", &d, &e) == KT_OK, "%s", e.msg);
+    int n = kt_topo_legend_labels(&d, val, pos, KT_TOPO_MAXBIN + 1), zero = 0;
+    CHECK(n == 13, "difference legend: %d labels, expected 13 (-3.0 to +3.0 by 0.5)", n);
+    for (int k = 0; k < n; k++) {
+        CHECK(fabs(val[k] - (-3.0 + 0.5 * k)) < 1e-12, "label %d: %g, expected %g", k, val[k], -3.0 + 0.5 * k);
+        CHECK(fabs(val[k] + val[n - 1 - k]) < 1e-12, "labels %d and %d not symmetric", k, n - 1 - k);
+        kt_topo_legend_text(val[k], 1, b, sizeof b);
+        zero += strcmp(b, "0") == 0;
+    }
+    CHECK(zero == 1, "the difference legend labels 0 once (%d)", zero);
+    kt_topo_legend_text(0.5, 1, b, sizeof b);
+    CHECK(strcmp(b, "+0.5") == 0, "0.5 prints %s", b);
+    kt_topo_legend_text(-0.25, 1, b, sizeof b);
+    CHECK(strcmp(b, "-0.25") == 0, "-0.25 prints %s", b);
+    CHECK(kt_topo_scale_load(SCALE_TSV, &a, &e) == KT_OK, "%s", e.msg);
+    n = kt_topo_legend_labels(&a, val, pos, KT_TOPO_MAXBIN + 1);
+    CHECK(n > 2 && val[0] == a.lo[0] && pos[0] == 0 && val[1] == a.lo[2], "absolute legend: edges every other bin");
+    CHECK(kt_topo_scale_auto(&a, 42.31, 44.02, &r, &e) == KT_OK, "%s", e.msg);
+    CHECK(r.n == 8 && r.lo[0] == 42.25 && r.hi[r.n - 1] == 44.25 && r.hi[0] - r.lo[0] == 0.25,
+          "auto 42.31-44.02: %d bins %g-%g", r.n, r.lo[0], r.hi[r.n - 1]);
+    CHECK(memcmp(r.rgb[0], a.rgb[0], 3) == 0 && memcmp(r.rgb[r.n - 1], a.rgb[a.n - 1], 3) == 0, "auto colours span the ramp");
+    CHECK(kt_topo_scale_auto(&a, 30, 50, &r, &e) == KT_OK && r.n <= 24 && r.hi[0] - r.lo[0] == 1 && r.lo[0] <= 30 &&
+          r.hi[r.n - 1] >= 50, "auto 30-50: %d bins of %g", r.n, r.hi[0] - r.lo[0]);
+    CHECK(kt_topo_scale_auto(&a, NAN, 50, &r, &e) == KT_ERUN, "auto on NaN refused");
+}
+
 int main(void)
 {
+    test_legend_and_auto();
     ref_scale ref = {0};
     kt_topo_scale sc;
     kt_err e = {0};

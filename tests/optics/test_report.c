@@ -170,8 +170,30 @@ static void test_scale_factors(void)
     CHECK(fabs(lo - 0) < 1e-12 && fabs(hi - 1.4) < 1e-12, "nice range [%g, %g], expected [0, 1.4]", lo, hi);
 }
 
+/* The headline says over- and under-correction and an axis flip (the demo's 1.50 D @ 90 ->
+ * 0.46 D @ 0, correction index 1.31, read as a success from the cards before). */
+static void test_verdict(void)
+{
+    char b[512];
+    kt_alpins va;
+    kt_astig tia = {1.5, 0};
+    kt_curv_alpins((kt_astig){1.50, 90}, (kt_astig){0.46, 0.4}, &tia, &va);
+    kt_report_verdict((kt_astig){1.50, 90}, (kt_astig){0.46, 0.4}, &va, 1, b, sizeof b);
+    CHECK(strncmp(b, "Over-correction", 15) == 0 && strstr(b, "axis flips") && strstr(b, "0.46 D @ 0"), "%s", b);
+    kt_curv_alpins((kt_astig){1.50, 90}, (kt_astig){0.90, 90}, &tia, &va);
+    kt_report_verdict((kt_astig){1.50, 90}, (kt_astig){0.90, 90}, &va, 1, b, sizeof b);
+    CHECK(strncmp(b, "Under-correction", 16) == 0 && !strstr(b, "flips"), "%s", b);
+    kt_curv_alpins((kt_astig){1.50, 90}, (kt_astig){0.02, 0}, &tia, &va);
+    kt_report_verdict((kt_astig){1.50, 90}, (kt_astig){0.02, 0}, &va, 1, b, sizeof b);
+    CHECK(strncmp(b, "On target", 9) == 0 && !strstr(b, "flips"), "%s (0.02 D left: no axis to flip)", b);
+    kt_curv_alpins((kt_astig){1.50, 90}, (kt_astig){0.46, 0}, NULL, &va);
+    kt_report_verdict((kt_astig){1.50, 90}, (kt_astig){0.46, 0}, &va, 0, b, sizeof b);
+    CHECK(strncmp(b, "No target", 9) == 0 && strstr(b, "flips"), "%s", b);
+}
+
 int main(void)
 {
+    test_verdict();
     test_b64();
     test_total();
     test_section();
