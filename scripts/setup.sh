@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # setup.sh [--test]: installs the Debian 12 packages keratome needs, when any is missing.
 # Idempotent. --test adds what only the tests use: Chromium (headless rendering of
-# report.html), python3-pil (reading its screenshot) and a font for it.
+# report.html), python3-pil (reading its screenshot) and a font for it, python3-vtk9 and
+# python3-yaml (tests/physics_vtk.sh reads the step files with VTK 9 and the scene with yaml).
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libopenblas-dev
       libgmsh-dev gmsh libcgal-dev libcgal-demo libyaml-dev libpng-dev
@@ -11,8 +12,9 @@ pkgs=(build-essential cmake pkg-config libsuitesparse-dev libmetis-dev libopenbl
       parallel slurm-wlm munge)
 if [ "${1:-}" = --test ]; then
   # test only: chromium for the report checks; clang and its runtime (libFuzzer) for
-  # scripts/fuzz.sh; valgrind (memcheck of the small unit programs)
-  pkgs+=(chromium python3-pil fonts-dejavu-core clang libclang-rt-14-dev valgrind)
+  # scripts/fuzz.sh; valgrind (memcheck of the small unit programs); VTK 9 and yaml for python
+  pkgs+=(chromium python3-pil fonts-dejavu-core clang libclang-rt-14-dev valgrind python3-vtk9
+         python3-yaml)
 elif [ $# -gt 0 ]; then
   echo "setup: unknown option $1 (usage: setup.sh [--test])" >&2; exit 2
 fi

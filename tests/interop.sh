@@ -167,6 +167,10 @@ for o in (1, 2):
         res(cv is not None and np.allclose(np.ravel(cv[0]), vol, rtol=1e-13, atol=0), f"{f}: cell_data volume = tet volumes")
         par = v.cell_data.get("parity")
         res(par is not None and np.array_equal(np.ravel(par[0]), np.arange(len(vt)) % 3), f"{f}: cell_data parity = i mod 3")
+        s6 = v.cell_data.get("sym6")
+        want6 = (np.arange(len(vt)) % 7)[:, None] + np.arange(6)[None, :] / 8.0
+        res(s6 is not None and np.asarray(s6[0]).shape == (len(vt), 6) and np.array_equal(np.asarray(s6[0]), want6),
+            f"{f}: cell_data sym6 (a 6-component FIELD array) = i mod 7 + k/8")
 
 # gmsh's own VTK export of vtk-p2.msh: the same quadratic tets (in gmsh's element order).
 g = meshio.read(f"{D}/vtk-p2-gmsh.vtk")

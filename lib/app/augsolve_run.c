@@ -157,7 +157,7 @@ typedef struct view {
     const kt_aug_row *row;
 } view;
 
-static int write_vtk(const kt_aug_run_opts *o, const view *v, kt_err *e)
+static int write_vtk(const kt_aug_run_opts *o, const view *v, const kt_physics *ph, kt_err *e)
 {
     if (!o->vtk) return KT_OK;
     const kt_mesh *m = v->mesh;
@@ -166,10 +166,12 @@ static int write_vtk(const kt_aug_run_opts *o, const view *v, kt_err *e)
     double *origin = kt_calloc((size_t)m->nn, sizeof(double), e);
     if (!origin) return e->code;
     for (int i = 0; i < m->nn; i++) origin[i] = v->origin[i] + 1;
-    kt_vtk_field f[3] = {{"displacement", 3, 0, 0, (double *)v->u},
-                         {"origin", 1, 0, 1, origin},
-                         {"reaction", 3, 0, 0, (double *)v->react}};
-    kt_vtk_write_tets(path, m, f, v->react ? 3 : 2, o->binary, e);
+    kt_vtk_field f[3 + KT_PHYSICS_NFIELD] = {{"displacement", 3, 0, 0, (double *)v->u},
+                                            {"origin", 1, 0, 1, origin},
+                                            {"reaction", 3, 0, 0, (double *)v->react}};
+    int nf = v->react ? 3 : 2; /* then the per-tet inputs of the physics (cut: same tets) */
+    for (int k = 0; k < ph->ncell; k++) f[nf++] = ph->cell[k];
+    kt_vtk_write_tets(path, m, f, nf, o->binary, e);
     free(origin);
     return e->code;
 }
@@ -331,7 +333,7 @@ static int run_stream(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
 {
     view v;
     if (kt_aug_create(&r->aug, &r->prob, &o->aug, e) || aug_view(r, o, &v, e) ||
-        write_vtk(o, &v, e))
+        write_vtk(o, &v, &r->phys, e))
         return e->code;
     write_row(r, v.row);
     progress(v.row, o->aug.quiet);
@@ -340,7 +342,7 @@ static int run_stream(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
         if (kt_aug_step(r->aug, &r->step, e)) return e->code;
         (*steps)++;
         if (r->want && (r->step.index > r->plan.nsteps || !r->want[r->step.index])) continue;
-        if (aug_view(r, o, &v, e) || write_vtk(o, &v, e)) return e->code;
+        if (aug_view(r, o, &v, e) || write_vtk(o, &v, &r->phys, e)) return e->code;
         write_row(r, v.row);
         progress(v.row, o->aug.quiet);
     }
@@ -396,7 +398,7 @@ static int planned_step(run *r, const kt_aug_run_opts *o, kt_err *e)
     if (o->aug.verify && verify_planned(r, o, e)) return e->code;
     view v = {&r->S.mesh, r->S.step, r->S.u, o->aug.output[0] ? NULL : r->S.react,
               r->S.origin, &r->S.row};
-    if (write_vtk(o, &v, e)) return e->code;
+    if (write_vtk(o, &v, &r->phys, e)) return e->code;
     write_row(r, v.row);
     progress(v.row, o->aug.quiet);
     return KT_OK;

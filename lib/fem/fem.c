@@ -479,3 +479,22 @@ int kt_fem_stress(const kt_mesh *m, const kt_materials *mats, const double *u, d
     }
     return KT_OK;
 }
+
+int kt_fem_prestress_mean(const kt_mesh *m, const kt_materials *mats, int tet, double mean[6],
+                          kt_err *e)
+{
+    memset(mean, 0, 6 * sizeof(double));
+    if (!mats->td || !mats->td->sig) return KT_OK;
+    int nv = kt_tet_nv(m->order);
+    double x[30], g[10][3], det, vol = 0;
+    gather_x(m, tet, x);
+    tet_rule rule = element_rule(m->order, x);
+    const double *sig = mats->td->sig + (size_t)tet * KT_FEM_NQ * 6;
+    for (int q = 0; q < rule.n; q++) {
+        if (point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
+        vol += rule.w[q] * det;
+        for (int p = 0; p < 6; p++) mean[p] += rule.w[q] * det * sig[6 * q + p];
+    }
+    for (int p = 0; p < 6; p++) mean[p] /= vol;
+    return KT_OK;
+}

@@ -84,6 +84,12 @@ int kt_fem_release_loads(const kt_mesh *m, const kt_materials *mats, double *f, 
 int kt_fem_stress(const kt_mesh *m, const kt_materials *mats, const double *u, double *sig,
                   kt_err *e);
 
+/* mean (6, Voigt 11 22 33 23 13 12, MPa) := the volume average of tet `tet`'s prestress
+ * td->sig: its quadrature-point values weighted by the element rule's weights times det J (the
+ * rule and points the stiffness uses); zero without td->sig. */
+int kt_fem_prestress_mean(const kt_mesh *m, const kt_materials *mats, int tet, double mean[6],
+                          kt_err *e);
+
 /* pface (ne x 4) += p on the local face of the tet each triangle of surface surf_tag bounds. */
 int kt_fem_pressure_faces(const kt_mesh *m, int surf_tag, double p, double *pface, kt_err *e);
 

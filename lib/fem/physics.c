@@ -13,6 +13,9 @@ void kt_physics_free(kt_physics *ph)
     free(ph->td.C);
     free(ph->td.sig);
     free(ph->td.pface);
+    free(ph->frame);
+    free(ph->cst);
+    free(ph->cellv);
     memset(ph, 0, sizeof *ph);
 }
 
@@ -26,35 +29,59 @@ static const kt_region_mat *region_mat(const kt_scene *s, const char *name)
     return fallback;
 }
 
-/* C of every tet: fibre regions from the frames, the others isotropic. */
+/* The constants of an isotropic tet (E, nu) in ph->cst's form; fails on an invalid material. */
+static int iso_constants(const kt_materials *mats, const kt_mesh *m, int t, double *c, kt_err *e)
+{
+    kt_material mt = mats->mat[m->tet_tag[t]];
+    if (!(mt.E > 0) || !(mt.nu > -1 && mt.nu < 0.5))
+        return kt_fail(e, KT_EINPUT, "tet %d: region without a valid material", t + 1);
+    c[0] = c[1] = mt.E;
+    c[2] = mt.E / (2 * (1 + mt.nu));
+    c[3] = mt.nu;
+    c[4] = c[5] = 0;
+    return KT_OK;
+}
+
+/* ph->cst of every tet of a scene without fibre regions (as given: the assembly checks them). */
+static int iso_all(const kt_mesh *m, const kt_materials *mats, kt_physics *ph, kt_err *e)
+{
+    ph->cst = kt_calloc(KT_PHYSICS_NCST * (size_t)(m->ne ? m->ne : 1), sizeof(double), e);
+    if (!ph->cst) return e->code;
+    for (int t = 0; t < m->ne; t++) {
+        kt_material mt = mats->mat[m->tet_tag[t]];
+        double *c = ph->cst + KT_PHYSICS_NCST * (size_t)t;
+        c[0] = c[1] = mt.E;
+        c[2] = mt.nu > -1 ? mt.E / (2 * (1 + mt.nu)) : NAN;
+        c[3] = mt.nu;
+    }
+    return KT_OK;
+}
+
+/* C, the frames and the constants of every tet: fibre regions from the frames, the others
+ * isotropic. */
 static int fibre_matrices(const kt_scene *s, const kt_mesh *m, const kt_materials *mats,
                           kt_physics *ph, kt_err *e)
 {
-    double *F = kt_calloc(13 * (size_t)(m->ne ? m->ne : 1), sizeof(double), e);
-    ph->td.C = kt_calloc(36 * (size_t)(m->ne ? m->ne : 1), sizeof(double), e);
-    if (e->code || kt_eye_fibre_frames(&s->eye, m, F, e)) {
-        free(F);
-        return e->code;
-    }
+    size_t ne = (size_t)(m->ne ? m->ne : 1);
+    ph->frame = kt_calloc(13 * ne, sizeof(double), e);
+    ph->cst = kt_calloc(KT_PHYSICS_NCST * ne, sizeof(double), e);
+    ph->td.C = kt_calloc(36 * ne, sizeof(double), e);
+    if (e->code || kt_eye_fibre_frames(&s->eye, m, ph->frame, e)) return e->code;
     for (int t = 0; t < m->ne; t++) {
         const kt_group *g = kt_mesh_find_tag(m, 3, m->tet_tag[t]);
         const kt_region_mat *r = g ? region_mat(s, g->name) : NULL;
-        double *C = ph->td.C + 36 * (size_t)t;
+        double *C = ph->td.C + 36 * (size_t)t, *c = ph->cst + KT_PHYSICS_NCST * (size_t)t;
         if (r && r->fibre) {
-            const double *f = F + 13 * (size_t)t;
+            const double *f = ph->frame + 13 * (size_t)t;
             kt_fibre_material fm = {r->E1, r->E2, r->Gt, r->nu};
             double Ec = (s->eye.fibre_density - 1) * f[12] * 0.5 * (r->E1 + r->E2);
             kt_fem_fibre_matrix(&fm, f, f + 3, f + 6, f + 9, Ec, C);
+            c[0] = r->E1, c[1] = r->E2, c[2] = r->Gt, c[3] = r->nu, c[4] = Ec, c[5] = 1;
         } else {
-            kt_material mt = mats->mat[m->tet_tag[t]];
-            if (!(mt.E > 0) || !(mt.nu > -1 && mt.nu < 0.5)) {
-                free(F);
-                return kt_fail(e, KT_EINPUT, "tet %d: region without a valid material", t + 1);
-            }
-            kt_fem_iso_matrix(mt.E, mt.nu, C);
+            if (iso_constants(mats, m, t, c, e)) return e->code;
+            kt_fem_iso_matrix(c[0], c[3], C);
         }
     }
-    free(F);
     return KT_OK;
 }
 
@@ -108,9 +135,11 @@ int kt_physics_build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt
     for (int i = 0; i < s->nmat; i++) ph->fibre |= s->mat[i].fibre;
     if (ph->fibre && s->model != KT_MODEL_EYE)
         return kt_fail(e, KT_EINPUT, "%s: model fibre materials need the eye model", s->path);
-    if (ph->fibre && fibre_matrices(s, m, &fp->mats, ph, e)) return e->code;
+    if (ph->fibre ? fibre_matrices(s, m, &fp->mats, ph, e) : iso_all(m, &fp->mats, ph, e))
+        return e->code;
     if (s->reference == KT_REFERENCE_PRESTRESSED && prestress(m, fp, ph, c, e)) return e->code;
     fp->mats.td = (ph->td.C || ph->td.sig) ? &ph->td : NULL;
+    if (kt_physics_cell_fields(ph, m, e)) return e->code;
     ph->t_build = kt_now() - t0;
     return KT_OK;
 }

@@ -8,6 +8,11 @@
 #include "bind.h"
 #include "fem.h"
 #include "scene.h"
+#include "vtk.h"
+
+/* Cell fields of the per-tet inputs: lamellar, 5 constants, a1 a2 n c, limbal_weight, sigma0. */
+#define KT_PHYSICS_NFIELD 12
+#define KT_PHYSICS_NCST 6
 
 typedef struct kt_physics {
     kt_fem_tetdata td;  /* owned; mats->td points here */
@@ -15,6 +20,14 @@ typedef struct kt_physics {
     int prestressed;    /* sig and pface are set */
     double t_build;     /* seconds (prestress solve included) */
     double sig_apex;    /* mean in-plane prestress at the apex tets, MPa (report) */
+    double *frame;      /* owned, fibre scenes: ne x 13, kt_eye_fibre_frames (a1 a2 n c w) */
+    double *cst;        /* owned: ne x KT_PHYSICS_NCST, the tet's constants E_inplane,
+                           E_inplane_2, G_transverse (MPa), nu, E_circumferential (MPa), and
+                           1 for a fibre region, else 0; an isotropic tet: E, E,
+                           E / (2 (1 + nu)), nu, 0, 0 (kt_fem_fibre_matrix of these is its C) */
+    double *cellv;      /* owned: the values of cell[] */
+    kt_vtk_field cell[KT_PHYSICS_NFIELD]; /* every per-tet input as a VTK cell field */
+    int ncell;          /* (keratome-vtk(5)); kt_physics_cell_fields */
 } kt_physics;
 
 /* Fill ph for scene s on mesh m, bound as problem fp (kt_fem_bind), and set fp->mats.td =
@@ -24,6 +37,14 @@ typedef struct kt_physics {
 int kt_physics_build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
                      cholmod_common *c, kt_err *e);
 void kt_physics_free(kt_physics *ph);
+
+/* ph->cell[0 .. ncell-1] := the per-tet inputs of ph on mesh m (tets numbered as m's; a cut
+ * keeps tet numbers) as VTK cell fields, values in ph->cellv: lamellar (int: 1 for a fibre
+ * region), E_inplane, E_inplane_2, G_transverse, nu, E_circumferential (ph->cst); with fibre
+ * frames a1, a2, n, c and limbal_weight (ph->frame); prestressed: sigma0, the volume average
+ * of the prestress over the tet's quadrature points (kt_fem_prestress_mean), MPa, in VTK's
+ * symmetric-tensor order xx yy zz xy yz xz. Called by kt_physics_build. */
+int kt_physics_cell_fields(kt_physics *ph, const kt_mesh *m, kt_err *e);
 
 /* The elasticity problem augsolve solves for scene s on mesh m, for every program that must
  * solve the same one (augsolve, the benchmarks): fp := kt_fem_bind(s, m), ph :=

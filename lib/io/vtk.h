@@ -5,8 +5,10 @@
 
 #include "mesh.h"
 
-/* A field: ncomp values per point or per cell (1 = SCALARS, 3 = VECTORS); integer fields are
- * written as int and read back as double. */
+/* A field: ncomp values per point or per cell (3: VECTORS; 1, 2, 4: SCALARS; 5 to
+ * KT_VTK_MAXCOMP: a FIELD of one array, as the legacy SCALARS take at most 4); integer fields
+ * are written as int and read back as double. */
+#define KT_VTK_MAXCOMP 9
 typedef struct kt_vtk_field {
     char name[KT_NAME_MAX];
     int ncomp;

@@ -68,8 +68,9 @@ static int check_fields(const kt_vtk_field *f, int nf, int reserve_region, kt_er
         const char *n = f[i].name;
         if (!n[0] || strpbrk(n, " \t\r\n"))
             return kt_fail(e, KT_EINPUT, "VTK field name '%s': expected a non-empty name without blanks", n);
-        if (f[i].ncomp < 1 || f[i].ncomp > 4)
-            return kt_fail(e, KT_EINPUT, "VTK field '%s': expected 1 to 4 components, got %d", n, f[i].ncomp);
+        if (f[i].ncomp < 1 || f[i].ncomp > KT_VTK_MAXCOMP)
+            return kt_fail(e, KT_EINPUT, "VTK field '%s': expected 1 to %d components, got %d", n,
+                           KT_VTK_MAXCOMP, f[i].ncomp);
         if (reserve_region && f[i].on_cells && strcmp(n, "region") == 0)
             return kt_fail(e, KT_EINPUT, "VTK field 'region' on cells is written from the mesh's tags");
         for (int j = 0; j < i; j++)
@@ -79,11 +80,14 @@ static int check_fields(const kt_vtk_field *f, int nf, int reserve_region, kt_er
     return KT_OK;
 }
 
-/* One attribute: SCALARS (LOOKUP_TABLE default) or VECTORS for 3 components. */
+/* One attribute: VECTORS for 3 components, SCALARS (LOOKUP_TABLE default) for 1, 2 or 4, and
+ * a FIELD of one array for more (SCALARS allow at most 4). */
 static int put_field(vw *w, const kt_vtk_field *f, size_t count, kt_err *e)
 {
     const char *type = f->is_int ? "int" : "double";
     if (f->ncomp == 3) fprintf(w->f, "VECTORS %s %s\n", f->name, type);
+    else if (f->ncomp > 4)
+        fprintf(w->f, "FIELD %s 1\n%s %d %zu %s\n", f->name, f->name, f->ncomp, count, type);
     else fprintf(w->f, "SCALARS %s %s %d\nLOOKUP_TABLE default\n", f->name, type, f->ncomp);
     size_t n = count * (size_t)f->ncomp;
     if (!f->is_int) {

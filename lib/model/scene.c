@@ -284,16 +284,19 @@ static int parse_materials(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err 
 /* Literature defaults of the eye's tissues; sources in keratome-scene(5). */
 static void eye_material_defaults(kt_scene *s)
 {
-    /* Lamellar stroma: in-plane tensile 4.0 MPa and transverse shear 94 kPa in vivo by OCE at
-     * about 10 kHz (S0/A0 waves, same eyes), halved for the strain-rate effect (about 2x between
-     * 0.5 and 5 %/min, Elsheikh): 2.0 MPa, 47 kPa; nu 0.49 nearly incompressible (Pitre 2020). The
+    /* Lamellar stroma, moduli for a wound that opens over a day (keratome-scene(5), "Rate:
+     * which moduli a slowly opening wound sees"; docs/moduli.md): in-plane 2.0 MPa, the
+     * slowest measured value (vibrational OCT, Silver 2018), not extrapolated; transverse shear
+     * 9.5 kPa = (94 kPa in vivo at 10 kHz by OCE - the membrane prestress 14.4 kPa) times
+     * (f_w / 10 kHz)^0.0948, f_w = 1 / (2 pi 1 day), the exponent of the loss ratio 0.15 of
+     * stroma in torsion (Hatami-Marbini 2014); nu 0.49 nearly incompressible (Pitre 2020). The
      * limbus region: the same lamellae, fully circumferential (kt_physics). */
     for (int k = 0; k < 2; k++) {
         add_mat(s, k ? "limbus" : "cornea", 0, 0.49);
         kt_region_mat *r = find_mat(s, k ? "limbus" : "cornea");
         r->fibre = 1;
         r->E1 = r->E2 = 2.0;
-        r->Gt = 0.047;
+        r->Gt = 0.0095;
     }
     add_mat(s, "sclera", 3.0, 0.49);
 }

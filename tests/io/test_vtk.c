@@ -68,10 +68,11 @@ static int box(kt_mesh *m, int n, int order, kt_err *e)
 
 /* The analytic sample fields (tests/interop.sh recomputes them):
  * displacement = (1e-3 sin 3x, x y z, z^2/4 - y), origin = node number + 1,
- * on cells: volume (double), parity = i % 3 (int). */
+ * on cells: volume (double), parity = i % 3 (int), and sym6 (6 components, written as a FIELD
+ * array): component k of cell i = i % 7 + k / 8. */
 typedef struct fields {
-    double *disp, *origin, *vol, *parity;
-    kt_vtk_field f[4];
+    double *disp, *origin, *vol, *parity, *sym6;
+    kt_vtk_field f[5];
 } fields;
 
 static void sample_fields(fields *F, const kt_mesh *m)
@@ -80,6 +81,7 @@ static void sample_fields(fields *F, const kt_mesh *m)
     F->origin = malloc(sizeof(double) * (size_t)m->nn);
     F->vol = malloc(sizeof(double) * (size_t)m->ne);
     F->parity = malloc(sizeof(double) * (size_t)m->ne);
+    F->sym6 = malloc(sizeof(double) * 6 * (size_t)m->ne);
     for (int i = 0; i < m->nn; i++) {
         const double *x = m->xyz + 3 * i;
         F->disp[3 * i] = 1e-3 * sin(3 * x[0]);
@@ -92,11 +94,13 @@ static void sample_fields(fields *F, const kt_mesh *m)
         const int *t = m->tet + (size_t)nv * i;
         F->vol[i] = kt_tet_volume(m->xyz + 3 * t[0], m->xyz + 3 * t[1], m->xyz + 3 * t[2], m->xyz + 3 * t[3]);
         F->parity[i] = i % 3;
+        for (int k = 0; k < 6; k++) F->sym6[6 * i + k] = i % 7 + k / 8.0;
     }
     F->f[0] = (kt_vtk_field){"displacement", 3, 0, 0, F->disp};
     F->f[1] = (kt_vtk_field){"origin", 1, 0, 1, F->origin};
     F->f[2] = (kt_vtk_field){"volume", 1, 1, 0, F->vol};
     F->f[3] = (kt_vtk_field){"parity", 1, 1, 1, F->parity};
+    F->f[4] = (kt_vtk_field){"sym6", 6, 1, 0, F->sym6};
 }
 
 static void free_fields(fields *F)
@@ -105,6 +109,7 @@ static void free_fields(fields *F)
     free(F->origin);
     free(F->vol);
     free(F->parity);
+    free(F->sym6);
 }
 
 static int same_field(const kt_vtk *v, const kt_vtk_field *want, int count)
@@ -141,7 +146,7 @@ static void tets_round_trip(int order)
     for (int bin = 0; bin <= 1; bin++) {
         char name[64];
         snprintf(name, sizeof name, "tets-p%d-%s.vtk", order, bin ? "bin" : "ascii");
-        CHECK(kt_vtk_write_tets(tmp(name), &m, F.f, 4, bin, &e) == KT_OK, "%s: %s", name, e.msg);
+        CHECK(kt_vtk_write_tets(tmp(name), &m, F.f, 5, bin, &e) == KT_OK, "%s: %s", name, e.msg);
         kt_vtk v;
         CHECK(kt_vtk_read(tmp(name), &v, &e) == KT_OK, "%s: read: %s", name, e.msg);
         if (e.code) continue;
@@ -163,7 +168,7 @@ static void tets_round_trip(int order)
         int reg_ok = reg && reg->is_int && reg->ncomp == 1;
         for (int c = 0; reg_ok && c < m.ne; c++) reg_ok = reg->v[c] == m.tet_tag[c];
         CHECK(reg_ok, "%s: CELL_DATA region equals tet_tag", name);
-        for (int k = 0; k < 4; k++)
+        for (int k = 0; k < 5; k++)
             CHECK(same_field(&v, &F.f[k], F.f[k].on_cells ? m.ne : m.nn), "%s: field %s", name, F.f[k].name);
         CHECK(kt_vtk_find(&v, "stress", 0) == NULL, "%s: missing field is NULL", name);
         CHECK(kt_vtk_find(&v, "displacement", 1) == NULL, "%s: point field not found on cells", name);
@@ -310,7 +315,8 @@ static int at_section(const char *all, size_t len, int bin)
     if (!bin && len > 0 && all[len - 1] != '\n' && all[len - 1] != ' ')
         while (*rest && *rest != '\n' && *rest != ' ') rest++;
     while (*rest == '\n' || *rest == ' ') rest++;
-    static const char *kw[] = {"CELLS ", "CELL_DATA ", "POINT_DATA ", "SCALARS ", "VECTORS ", "POLYGONS "};
+    static const char *kw[] = {"CELLS ",   "CELL_DATA ", "POINT_DATA ", "SCALARS ",
+                               "VECTORS ", "FIELD ",     "POLYGONS "};
     if (!*rest) return 1;
     for (size_t i = 0; i < sizeof kw / sizeof kw[0]; i++)
         if (strncmp(rest, kw[i], strlen(kw[i])) == 0) return 1;
@@ -325,7 +331,7 @@ static void test_truncated(int bin)
     fields F;
     sample_fields(&F, &m);
     const char *p = tmp("whole.vtk");
-    kt_vtk_write_tets(p, &m, F.f, 4, bin, &e);
+    kt_vtk_write_tets(p, &m, F.f, 5, bin, &e);
     size_t n = 0;
     char *all = read_all(p, &n);
     /* ASCII cannot detect a cut inside its very last number: stop before the last line. */
@@ -383,7 +389,7 @@ static int samples(const char *dir)
             fields F;
             sample_fields(&F, &m);
             snprintf(p, sizeof p, "%s/vtk-p%d%s.vtk", dir, order, bin ? "-bin" : "");
-            kt_vtk_write_tets(p, &m, F.f, 4, bin, &e);
+            kt_vtk_write_tets(p, &m, F.f, 5, bin, &e);
             snprintf(p, sizeof p, "%s/vtk-p%d.msh", dir, order);
             if (!bin) kt_msh_write(p, &m, 0, &e);
             if (order == 1) {

@@ -1,0 +1,172 @@
+#!/bin/bash
+# physics_vtk.sh BUILD_DIR: augsolve's step files carry every per-tet input of the physics as
+# CELL_DATA (keratome-vtk(5)), and two second readers get back what the solver used. A coarse
+# P2 default eye (plans/eye.yaml: lamellar cornea and limbus, prestressed), a single 30-degree
+# LRI in one step, written ASCII and BINARY. meshio and VTK 9 (python3-vtk9) read the files;
+# for tets of every region the test recomputes, from the tet's vertices and the scene's
+# documented rules (keratome-scene(5), eye.fibres and MATERIALS), the lamellar frame a1 a2 n c,
+# the limbal weight and the material constants, and checks that sigma0 is the membrane stress
+# of the pressurized cornea (p R / 2t at the apex, traction-free normal stress), and that the
+# cut's step carries the same per-tet values as step 0 (tets keep their numbers).
+set -u
+build="$1"
+PY=/usr/bin/python3 # Debian's interpreter: the one that sees numpy, meshio and vtk
+$PY -c 'import meshio, numpy, yaml' 2>/dev/null || { echo "FAILED: meshio/numpy/yaml not importable by $PY"; exit 1; }
+$PY -c 'import vtk' 2>/dev/null || { echo "FAILED: python3-vtk9 missing (scripts/setup.sh --test)"; exit 1; }
+tmp=$(mktemp -d /tmp/kt-physvtk.XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+printf 'leak:libgmsh.so\n' > "$tmp/lsan.supp"
+export LSAN_OPTIONS="suppressions=$tmp/lsan.supp:print_suppressions=0"
+sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.7 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.5 mm/' \
+    -e 's/^    cornea: [0-9.]* mm/    cornea: 0.9 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 3 mm/' \
+    -e '/^    incision_floor:/d' \
+    plans/eye.yaml > "$tmp/eye.yaml"
+grep -q "incision: 0.5 mm" "$tmp/eye.yaml" || { echo "FAILED: could not coarsen the eye"; exit 1; }
+sed -e "s|^scene:.*|scene: $tmp/eye.yaml|" -e 's|degrees_per_step:.*|degrees_per_step: 30 deg|' \
+    plans/lri-single-30.yaml > "$tmp/plan.yaml"
+"$build/mesh-prep" -q "$tmp/eye.yaml" -o "$tmp/eye.msh" > /dev/null || { echo "FAILED: mesh-prep"; exit 1; }
+"$build/cutplan" -q "$tmp/plan.yaml" "$tmp/eye.msh" -o "$tmp/lri.edits" || { echo "FAILED: cutplan"; exit 1; }
+"$build/augsolve" -q "$tmp/eye.msh" "$tmp/lri.edits" -o "$tmp/ascii" 2> "$tmp/err" || { echo "FAILED: augsolve: $(cat "$tmp/err")"; exit 1; }
+"$build/augsolve" -q "$tmp/eye.msh" "$tmp/lri.edits" -o "$tmp/bin" --binary 2> "$tmp/err" || { echo "FAILED: augsolve --binary: $(cat "$tmp/err")"; exit 1; }
+$PY - "$tmp" <<'PY' || exit 1
+import math, re, sys
+import meshio, numpy as np, yaml
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+
+tmp = sys.argv[1]
+errs = []
+def check(ok, what):
+    if not ok: errs.append(what)
+
+# --- the scene, with its units (keratome-scene(5)) ----------------------------------------------
+UNIT = {"MPa": 1.0, "kPa": 1e-3, "Pa": 1e-6, "mm": 1.0, "um": 1e-3, "mmHg": 0.133322387415e-3, "deg": 1.0}
+def q(v):
+    if not isinstance(v, str): return float(v)
+    num, unit = v.split()
+    return float(num) * UNIT[unit]
+sc = yaml.safe_load(open(f"{tmp}/eye.yaml"))
+eye, mats = sc["eye"], sc["materials"]
+Rs, Rf, wtw, Rg = (q(eye[k]) for k in ("anterior_radius_steep", "anterior_radius_flat", "white_to_white", "globe_radius"))
+band, dens = q(eye["fibres"]["limbal_band"]), float(eye["fibres"]["limbal_density"])
+p_iop = q(sc["loads"]["pressure"]["value"])
+# mean anterior sphere: radius 2 / (1/Rs + 1/Rf), through the corneal edge (rho = wtw/2) on the
+# globe (radius Rg about the origin); its centre on the axis at z_ca
+Ra, rc = 2 / (1 / Rs + 1 / Rf), wtw / 2
+z_ca = math.sqrt(Rg**2 - rc**2) - math.sqrt(Ra**2 - rc**2)
+
+# region tags from the mesh's physical names
+txt = open(f"{tmp}/eye.msh").read()
+blk = txt.split("$PhysicalNames\n")[1].split("$EndPhysicalNames")[0].strip().split("\n")[1:]
+tag = {m.group(3): int(m.group(2)) for m in (re.match(r'(\d+) (\d+) "(.*)"', l) for l in blk) if m.group(1) == "3"}
+check(set(tag) == {"cornea", "limbus", "sclera"}, f"volume groups {sorted(tag)}")
+
+def unit(v): return v / np.linalg.norm(v)
+def cround(x): return math.copysign(math.floor(abs(x) + 0.5), x)  # C's round()
+
+def expected(pc, region):
+    """The documented per-tet inputs at centroid pc of a tet of `region`."""
+    cornea = region == "cornea"
+    n = unit(pc - np.array([0, 0, z_ca if cornea else 0.0]))
+    a1 = unit(np.array([1.0, 0, 0]) - n[0] * n)
+    a2 = np.cross(n, a1)
+    rho = math.hypot(pc[0], pc[1])
+    w = 1.0
+    if cornea:
+        s = min(max((rho - (rc - band)) / band, 0.0), 1.0)
+        w = s * s * (3 - 2 * s)
+    c = unit(np.array([-pc[1] / rho, pc[0] / rho, 0]) - (-pc[1] * n[0] + pc[0] * n[1]) / rho * n)
+    phi = math.atan2(pc[1], pc[0])
+    th = w * (phi - math.pi / 2 * cround(phi / (math.pi / 2)))
+    b1 = math.cos(th) * a1 + math.sin(th) * a2
+    m = mats[region]
+    if region in ("cornea", "limbus"):
+        E = q(m["E_inplane"])
+        cst = [E, E, q(m["G_transverse"]), float(m["nu"]), (dens - 1) * w * E, 1]
+    else:
+        E, nu = q(m["E"]), float(m["nu"])
+        cst = [E, E, E / (2 * (1 + nu)), nu, 0.0, 0]
+    return {"a1": b1, "a2": np.cross(n, b1), "n": n, "c": c, "limbal_weight": w}, cst
+
+CST = ["E_inplane", "E_inplane_2", "G_transverse", "nu", "E_circumferential", "lamellar"]
+NAMES = ["region", "a1", "a2", "n", "c", "limbal_weight", "sigma0"] + CST
+
+def read_meshio(path):
+    v = meshio.read(path)
+    cells = [cb.data for cb in v.cells if cb.type in ("tetra10", "tetra")]
+    check(len(cells) == 1, f"{path}: one block of tets")
+    d = {}
+    for k in NAMES:
+        a = v.cell_data.get(k)
+        check(a is not None, f"{path}: CELL_DATA {k} missing (meshio)")
+        if a is not None: d[k] = np.asarray(a[0]).reshape(len(cells[0]), -1)
+    return v.points, cells[0], d
+
+def read_vtk(path):
+    r = vtk.vtkUnstructuredGridReader()
+    r.SetFileName(path)
+    r.ReadAllScalarsOn(); r.ReadAllVectorsOn(); r.ReadAllFieldsOn()
+    r.Update()
+    g = r.GetOutput()
+    cd = g.GetCellData()
+    d = {}
+    for k in NAMES:
+        a = cd.GetArray(k)
+        check(a is not None, f"{path}: CELL_DATA {k} missing (VTK {vtk.vtkVersion.GetVTKVersion()})")
+        if a is not None: d[k] = vtk_to_numpy(a).reshape(g.GetNumberOfCells(), -1).astype(float)
+    return d
+
+x, tets, d = read_meshio(f"{tmp}/ascii/step-0000.vtk")
+ne = len(tets)
+# 1. the two readers, the two encodings and the two steps agree value for value
+for path in (f"{tmp}/ascii/step-0000.vtk", f"{tmp}/bin/step-0000.vtk", f"{tmp}/bin/step-0001.vtk", f"{tmp}/ascii/step-0001.vtk"):
+    dv = read_vtk(path)
+    dm = read_meshio(path)[2]
+    for k in NAMES:
+        if k in d and k in dv and k in dm:
+            check(np.array_equal(dv[k], d[k]) and np.array_equal(dm[k], d[k]), f"{path}: {k} differs from ascii step 0")
+if errs: print("FAILED: " + "; ".join(errs[:8])); sys.exit(1)
+
+# 2. recompute tets of every region from their vertices (VTK's first 4 nodes)
+region_of = {t: r for r, t in tag.items()}
+rng = np.random.default_rng(7)
+pc = x[tets[:, :4]].mean(axis=1)
+rho = np.hypot(pc[:, 0], pc[:, 1])
+reg = d["region"][:, 0].astype(int)
+picks = []
+for r in ("cornea", "limbus", "sclera"):
+    ids = np.flatnonzero((reg == tag[r]) & (rho > 0.05))
+    picks += list(rng.choice(ids, 12, replace=False))
+    if r == "cornea":  # and the limbal band, where the frame turns and w is between 0 and 1
+        band_ids = np.flatnonzero((reg == tag[r]) & (rho > rc - band + 0.2) & (rho < rc - 0.2))
+        picks += list(rng.choice(band_ids, 12, replace=False))
+fd, cd = [], []  # np.max of these lists propagates a NaN, which then fails the checks
+for t in picks:
+    fr, cst = expected(pc[t], region_of[reg[t]])
+    for k, v in fr.items():
+        fd.append(np.max(np.abs(d[k][t] - v)))
+    for k, v in zip(CST, cst):
+        cd.append(abs(d[k][t][0] - v) / abs(v) if v else abs(d[k][t][0]))
+fmax, cmax = float(np.max(fd)), float(np.max(cd))
+check(fmax < 1e-12, f"frames and limbal weight differ from the recomputed ones by {fmax:.3g}")
+check(cmax < 1e-12, f"material constants differ from the scene's by {cmax:.3g} (relative)")
+wb = d["limbal_weight"][picks, 0]
+check(np.min(wb) < 0.5 < np.max(wb) and np.min(wb) >= 0, "the picks span the limbal band")
+
+# 3. sigma0 (xx yy zz xy yz xz, volume average): the pressurized cornea's membrane stress
+S = d["sigma0"]
+def tensor(s): return np.array([[s[0], s[3], s[5]], [s[3], s[1], s[4]], [s[5], s[4], s[2]]])
+apex = np.flatnonzero((reg == tag["cornea"]) & (rho < 1.0))
+mem = np.mean([0.5 * (d["a1"][t] @ tensor(S[t]) @ d["a1"][t] + d["a2"][t] @ tensor(S[t]) @ d["a2"][t]) for t in apex])
+snn = np.mean([d["n"][t] @ tensor(S[t]) @ d["n"][t] for t in apex])
+t_c = q(eye["central_thickness"])
+laplace = p_iop * Ra / (2 * t_c)
+print(f"{ne} tets; {len(picks)} recomputed: frames to {fmax:.2e}, constants to {cmax:.2e}; "
+      f"apex ({len(apex)} tets): in-plane sigma0 {1e3 * mem:.3f} kPa (p R / 2t = {1e3 * laplace:.3f}), "
+      f"normal {1e3 * snn:.3f} kPa (p = {1e3 * p_iop:.3f})")
+check(abs(mem / laplace - 1) < 0.15, f"apex in-plane prestress {mem:.4g} MPa, p R / 2t = {laplace:.4g}")
+check(-p_iop < snn < 0, f"apex normal prestress {snn:.4g} MPa, expected between -p and 0")
+check(np.all(np.isfinite(S)), "sigma0 not finite")
+if errs: print("FAILED: " + "; ".join(errs)); sys.exit(1)
+print("physics_vtk: ok")
+PY
