@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# lriplan_pipeline.sh BUILD_DIR: lri-plan --fast on plans/patients/atr-os.yaml (a left eye,
+# against the rule, measured posterior, the surgeon's SIA vector). A second reader checks the
+# answer: the scene written carries the patient's values (axis, ordering centre, the age rule,
+# the posterior's mean radius, the blade depth); every candidate's predicted residual equals the
+# double-angle sum, recomputed here, of the run's simulated total corneal astigmatism
+# (run-*/curvature.tsv), the measured posterior toricity and the surgeon's SIA; the answer is
+# the least of them; the arcs lower the astigmatism.
+set -uo pipefail
+B=$(cd "$1" && pwd)
+cd "$(dirname "$0")/.."
+py=/usr/bin/python3
+tmp=$(mktemp -d /tmp/kt-lriplan.XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+if ! "$B/lri-plan" --fast -q plans/patients/atr-os.yaml -o "$tmp/plan" > "$tmp/summary" 2> "$tmp/err"; then
+    echo "FAILED: lri-plan: $(cat "$tmp/err")"; exit 1
+fi
+cat "$tmp/summary"
+"$py" - "$tmp/plan" <<'PY'
+import json, math, sys
+out = sys.argv[1]
+d = json.load(open(f"{out}/plan.json"))
+fails = []
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond: fails.append(what)
+def vec(m, a): return (m * math.cos(2 * math.radians(a)), m * math.sin(2 * math.radians(a)))
+# The patient (plans/patients/atr-os.yaml): posterior -6.25 / -5.90 D @ 92: 0.35 D of plus
+# cylinder at 2 deg in the total; the surgeon's SIA 0.35 D @ 90 deg.
+post, sia = vec(0.35, 2.0), vec(0.35, 90.0)
+scene = open(f"{out}/scene.yaml").read()
+def field(key):
+    for line in scene.splitlines():
+        s = line.strip()
+        if s.startswith(key + ":"): return float(s.split()[1])
+    return float("nan")
+check(abs(field("steep_axis") - 178) < 1e-9, "scene steep_axis 178 deg")
+check(abs(field("centre") - 178) < 1e-9, "ordering centred on the steep meridian")
+check(abs(field("posterior_radius") - 2 / (6.25 / 40 + 5.90 / 40)) < 1e-9, "posterior mean radius")
+check(abs(field("depth") - 0.58) < 1e-12, "blade depth 580 um")
+check(abs(field("white_to_white") - 11.9) < 1e-12, "white-to-white")
+e = [float(l.split("E_inplane: ")[1].split()[0]) for l in scene.splitlines() if l.strip().startswith("cornea:") and "E_inplane" in l]
+check(len(e) == 1 and abs(e[0] - 2.0 * (1 + 0.075 * (74 - 60) / 10)) < 1e-9, f"age rule on the cornea: {e}")
+check(d["main_incision"]["meridian_deg"] == 0.0, "temporal is 0 deg in a left eye")
+best = None
+for c in d["candidates"]:
+    fam = c["incisions"]
+    rows = [l.rstrip("\n").split("\t") for l in open(f"{out}/run-{fam}/curvature.tsv")]
+    h = rows[0]
+    ic, ia = h.index("total_cyl_D"), h.index("total_axis_deg")
+    check(len(rows) - 1 == len(c["curve"]) == 19, f"{fam}: 18 steps of 5 deg and step 0")
+    worst = 0
+    for k, r in enumerate(rows[1:]):
+        t = vec(float(r[ic]), float(r[ia]))
+        x, y = t[0] + post[0] + sia[0], t[1] + post[1] + sia[1]
+        worst = max(worst, abs(math.hypot(x, y) - c["curve"][k]["residual_D"]))
+        check(abs(c["curve"][k]["arc_deg"] - 5 * k) < 1e-9, f"{fam} step {k}: arc {5 * k} deg") if k in (0, 18) else None
+    check(worst < 2e-4, f"{fam}: every predicted residual recomputed (worst {worst:.2e} D)")
+    m = min(p["residual_D"] for p in c["curve"])
+    check(abs(c["best_residual_D"] - m) < 1e-3, f"{fam}: best arc is the least residual ({m:.3f} D)")
+    check(m < d["pre_op"]["total_D"] - 0.2, f"{fam}: the arcs lower the total astigmatism ({d['pre_op']['total_D']:.2f} -> {m:.2f} D)")
+    best = m if best is None else min(best, m)
+p = d["plan"]
+check(p["predicted_residual_D"] <= best + 0.01 + 1e-9, "the answer is the least residual of the families (within 0.01 D)")
+check(p["reached"] == (p["predicted_residual_D"] <= 0.5), "reached says whether 0.5 D is reached")
+check(abs(p["chord_mm"] - 10.5 * math.sin(math.radians(p["arc_deg"] / 2))) < 0.01, "chord at the zone")
+check(abs((p["from_deg"] + p["arc_deg"] - p["to_deg"]) % 360) < 0.1, "arc end points")
+print(f"lriplan_pipeline: {0 if fails else 1} passed, {len(fails)} failed")
+sys.exit(1 if fails else 0)
+PY
