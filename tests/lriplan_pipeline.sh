@@ -5,7 +5,8 @@
 # the posterior's mean radius, the blade depth); every candidate's predicted residual equals the
 # double-angle sum, recomputed here, of the run's simulated total corneal astigmatism
 # (run-*/curvature.tsv), the measured posterior toricity and the surgeon's SIA; the answer is
-# the least of them; the arcs lower the astigmatism.
+# the least of them; the arcs lower the astigmatism. Round trip: the chosen arc cut alone by
+# hand (cutplan | augsolve | curvature) gives the predicted residual within 0.02 D.
 set -uo pipefail
 B=$(cd "$1" && pwd)
 cd "$(dirname "$0")/.."
@@ -65,6 +66,38 @@ check(p["predicted_residual_D"] <= best + 0.01 + 1e-9, "the answer is the least 
 check(p["reached"] == (p["predicted_residual_D"] <= 0.5), "reached says whether 0.5 D is reached")
 check(abs(p["chord_mm"] - 10.5 * math.sin(math.radians(p["arc_deg"] / 2))) < 0.01, "chord at the zone")
 check(abs((p["from_deg"] + p["arc_deg"] - p["to_deg"]) % 360) < 0.1, "arc end points")
+# The round trip: the chosen arc alone, cut clockwise in one step (not as a prefix of the
+# centre-out run), by hand with the tools.
+with open(f"{out}/roundtrip.yaml", "w") as f:
+    f.write(f"name: roundtrip\nscene: scene.yaml\nincisions:\n  - meridian: {p['centre_deg']} deg\n"
+            f"    arc: {p['arc_deg']} deg\n    depth: 580 um\n    position: {{surface: incision-ring-1}}\n"
+            f"    paired: {'true' if p['incisions'] == 'paired' else 'false'}\n    direction: cw\n"
+            f"progression: {{degrees_per_step: {p['arc_deg']} deg}}\n")
+with open(f"{out}/expect", "w") as f:
+    f.write(f"{p['predicted_residual_D']}\n")
 print(f"lriplan_pipeline: {0 if fails else 1} passed, {len(fails)} failed")
 sys.exit(1 if fails else 0)
+PY
+[ $? -eq 0 ] || exit 1
+d="$tmp/plan"
+if [ "$(/usr/bin/python3 -c "import json; print(json.load(open('$d/plan.json'))['plan']['arc_deg'] > 0)")" != True ]; then
+    echo "FAILED: the answer has no arc to check"; exit 1
+fi
+"$B/cutplan" -q "$d/roundtrip.yaml" "$d/eye.msh" -o "$d/rt.edits" 2> "$tmp/err" &&
+    "$B/augsolve" -q --binary "$d/eye.msh" "$d/rt.edits" -o "$d/rt" 2>> "$tmp/err" &&
+    "$B/curvature" -q --no-png --no-vtk --no-report "$d/rt" > /dev/null 2>> "$tmp/err" ||
+    { echo "FAILED: the round trip's tools: $(cat "$tmp/err")"; exit 1; }
+"$py" - "$d" <<'PY'
+import math, sys
+d = sys.argv[1]
+rows = [l.rstrip("\n").split("\t") for l in open(f"{d}/rt/curvature.tsv")]
+h, last = rows[0], rows[-1]
+def vec(m, a): return (m * math.cos(2 * math.radians(a)), m * math.sin(2 * math.radians(a)))
+t, post, sia = vec(float(last[h.index("total_cyl_D")]), float(last[h.index("total_axis_deg")])), vec(0.35, 2.0), vec(0.35, 90.0)
+got = math.hypot(t[0] + post[0] + sia[0], t[1] + post[1] + sia[1])
+want = float(open(f"{d}/expect").read())
+ok = abs(got - want) <= 0.02
+print(f"{'ok  ' if ok else 'FAIL'} round trip: the chosen arc cut alone gives {got:.4f} D, lri-plan predicted {want:.4f} D")
+print(f"lriplan_roundtrip: {1 if ok else 0} passed, {0 if ok else 1} failed")
+sys.exit(0 if ok else 1)
 PY
