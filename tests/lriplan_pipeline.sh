@@ -43,6 +43,12 @@ check(abs(field("white_to_white") - 11.9) < 1e-12, "white-to-white")
 e = [float(l.split("E_inplane: ")[1].split()[0]) for l in scene.splitlines() if l.strip().startswith("cornea:") and "E_inplane" in l]
 check(len(e) == 1 and abs(e[0] - 2.0 * (1 + 0.075 * (74 - 60) / 10)) < 1e-9, f"age rule on the cornea: {e}")
 check(d["main_incision"]["meridian_deg"] == 0.0, "temporal is 0 deg in a left eye")
+head = {}
+for line in open(f"{out}/paired.edits"):
+    w = line.split()
+    if w and w[0] == "step": break
+    if w: head[w[0]] = w[1:]
+check(head.get("hash", [""])[0] == d["provenance"]["mesh_hash"], f"mesh hash {d['provenance']['mesh_hash']} as in the edits header")
 best = None
 for c in d["candidates"]:
     fam = c["incisions"]

@@ -2,6 +2,8 @@
 #ifndef KT_LRIPLAN_INT_H
 #define KT_LRIPLAN_INT_H
 
+#include <stdint.h>
+
 #include "curv.h"
 #include "lriplan_run.h"
 #include "patient.h"
@@ -35,7 +37,8 @@ typedef struct kt_lri_answer {
     kt_lri_family fam[2];
     int chosen;                       /* family index of the answer */
     double mesh_seconds, solve_seconds;
-    int nodes;
+    int nodes;                        /* of the mesh */
+    uint64_t mesh_hash;               /* kt_mesh_hash of the mesh */
 } kt_lri_answer;
 
 /* Fill the answer's prediction per step and choose (lriplan_out.c). */

@@ -1,6 +1,7 @@
 /* lriplan_out.c: lri-plan's answer: the predicted astigmatism per arc, the choice, plan.json
  * and the one-screen summary (lri-plan(1)). */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "lriplan_int.h"
@@ -19,6 +20,14 @@ static double clock_hour(double deg)
 {
     double h = fmod(3 - deg / 30 + 48, 12);
     return h < 1 ? h + 12 : h;
+}
+
+/* The clock position as "h:mm" (12:50 is just past twelve, towards one). */
+static void clock_text(double deg, char out[8])
+{
+    int m = (int)lround(clock_hour(deg) * 60) % 720;
+    int h = m / 60 % 12;
+    snprintf(out, 8, "%d:%02d", h == 0 ? 12 : h, m % 60);
 }
 
 static double wrap360(double d) { return fmod(fmod(d, 360) + 360, 360); }
@@ -112,10 +121,12 @@ int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const ch
             a->pre_kerato.mag, a->pre_kerato.axis, a->pre_total.mag, a->pre_total.axis, a->post_vec.mag, a->post_vec.axis);
     arc_ends(a, arc, p->ant.axis, ends);
     kt_astig kpost = f->kerato[f->best], tpost = f->total[f->best];
+    char c0[8], c1[8];
+    clock_text(ends[0], c0), clock_text(ends[1], c1);
     fprintf(j, "  \"plan\": {\"incisions\": \"%s\", \"arc_deg\": %.1f, \"centre_deg\": %.2f, \"from_deg\": %.1f, \"to_deg\": %.1f, "
-               "\"from_clock\": %.1f, \"to_clock\": %.1f, \"chord_mm\": %.2f, \"zone_mm\": %.2f, \"blade_um\": %.0f,\n",
-            f->paired ? "paired" : "single", arc, p->ant.axis, ends[0], ends[1], clock_hour(ends[0]), clock_hour(ends[1]),
-            p->zone * sin(arc / 2 * KT_CURV_DEG), p->zone, 1000 * a->blade);
+               "\"from_clock\": \"%s\", \"to_clock\": \"%s\", \"chord_mm\": %.2f, \"zone_mm\": %.2f, \"blade_um\": %.0f,\n",
+            f->paired ? "paired" : "single", arc, p->ant.axis, ends[0], ends[1], c0, c1, p->zone * sin(arc / 2 * KT_CURV_DEG),
+            p->zone, 1000 * a->blade);
     fprintf(j, "    \"predicted_residual_D\": %.3f, \"predicted_residual_axis_deg\": %.1f, \"reached\": %s,\n", f->pred[f->best].mag,
             f->pred[f->best].axis, f->pred[f->best].mag <= p->target_residual ? "true" : "false");
     fprintf(j, "    \"post_op_keratometric_D\": %.3f, \"post_op_keratometric_axis_deg\": %.1f, \"post_op_total_D\": %.3f, "
@@ -133,9 +144,10 @@ int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const ch
                     k ? ", " : "", c->arc[k], c->pred[k].mag, c->pred[k].axis, c->kerato[k].mag, c->total[k].mag);
         fprintf(j, "]}");
     }
-    fprintf(j, "\n  ],\n  \"provenance\": {\"scene\": \"scene.yaml\", \"mesh\": \"eye.msh\", \"fast\": %s, \"step_deg\": %g, "
-               "\"mesh_seconds\": %.1f, \"solve_seconds\": %.1f}\n}\n",
-            o->fast ? "true" : "false", o->step, a->mesh_seconds, a->solve_seconds);
+    fprintf(j, "\n  ],\n  \"provenance\": {\"scene\": \"scene.yaml\", \"mesh\": \"eye.msh\", \"mesh_hash\": \"%016llx\", "
+               "\"mesh_nodes\": %d, \"fast\": %s, \"step_deg\": %g, \"mesh_seconds\": %.1f, \"solve_seconds\": %.1f}\n}\n",
+            (unsigned long long)a->mesh_hash, a->nodes, o->fast ? "true" : "false", o->step, a->mesh_seconds,
+            a->solve_seconds);
     if (ferror(j)) {
         kt_out_abort(&out);
         return kt_fail(e, KT_ERUN, "%s: write failed", path);
@@ -180,10 +192,12 @@ void kt_lri_summary(const kt_lri_answer *a, const kt_lriplan_opts *o, FILE *s)
         fprintf(s, "  answer: no arc (none lowers the %s residual)\n",
                 p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric");
     } else {
-        fprintf(s, "  answer: %s %.0f deg at the %.1f mm zone, %.0f um deep: from %.0f to %.0f deg (%.1f to %.1f o'clock)%s,"
+        char c0[8], c1[8];
+        clock_text(ends[0], c0), clock_text(ends[1], c1);
+        fprintf(s, "  answer: %s %.0f deg at the %.1f mm zone, %.0f um deep: from %.0f to %.0f deg (%s to %s)%s,"
                    " chord %.2f mm\n",
-                f->paired ? "paired" : "single", arc, p->zone, 1000 * a->blade, ends[0], ends[1], clock_hour(ends[0]),
-                clock_hour(ends[1]), f->paired ? " and opposite" : "", p->zone * sin(arc / 2 * KT_CURV_DEG));
+                f->paired ? "paired" : "single", arc, p->zone, 1000 * a->blade, ends[0], ends[1], c0, c1,
+                f->paired ? " and opposite" : "", p->zone * sin(arc / 2 * KT_CURV_DEG));
     }
     fprintf(s, "  predicted %s residual %.2f D @ %.0f: %s the %.2f D target\n",
             p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric", f->pred[f->best].mag, f->pred[f->best].axis,

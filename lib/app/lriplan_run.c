@@ -12,6 +12,7 @@
 #include "cutplan_run.h"
 #include "lriplan_int.h"
 #include "meshprep_run.h"
+#include "msh.h"
 #include "scene_write.h"
 
 #define PATHLEN 1200
@@ -215,6 +216,12 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
         rc = sink ? kt_prep_run(&po, sink, e) : kt_fail(e, KT_ERUN, "/dev/null: cannot open");
         if (sink) fclose(sink);
         a->mesh_seconds = kt_now() - t0;
+    }
+    if (rc == KT_OK) {
+        /* The mesh's content hash (the one cutplan's edits header carries) and size. */
+        kt_mesh m;
+        rc = kt_msh_read(mesh, &m, e);
+        if (rc == KT_OK) a->mesh_hash = kt_mesh_hash(&m), a->nodes = m.nn, kt_mesh_free(&m);
     }
     if (rc == KT_OK && a->p.arcs != KT_ARCS_PAIRED) rc = run_family(o, a, 0, mesh, e);
     if (rc == KT_OK && a->p.arcs != KT_ARCS_SINGLE) rc = run_family(o, a, 1, mesh, e);

@@ -39,7 +39,11 @@ int kt_patient_scene(const kt_patient *p, const kt_scene *base, kt_scene *s, kt_
 {
     if (base->model != KT_MODEL_EYE) return kt_fail(e, KT_EINPUT, "%s: expected an eye scene as the base", base->path);
     *s = *base;
+    /* The scene's name: the patient's, with what a group name cannot hold as '-'. */
     snprintf(s->name, sizeof s->name, "%s", p->name);
+    for (char *c = s->name; *c; c++)
+        if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') || *c == '.' || *c == '_'))
+            *c = '-';
     kt_eye *eye = &s->eye;
     eye->r_ant_steep = p->ant.r_steep;
     eye->r_ant_flat = p->ant.r_flat;

@@ -25,6 +25,7 @@ static void write_file(const char *path, const char *text)
 }
 
 static const char *OK_OD =
+    "name: 'Mr: X # 1'\n"
     "eye: OD\n"
     "age: 68\n"
     "cornea:\n"
@@ -137,6 +138,7 @@ static void test_scene(void)
     int rc = kt_patient_scene(&p, &base, &s, &e);
     CHECK(rc == KT_OK, "patient scene: %s", e.msg);
     if (rc != KT_OK) return;
+    CHECK(strcmp(s.name, "Mr--X---1") == 0, "scene name '%s': a name the scene YAML holds", s.name);
     CHECK_NEAR(s.eye.r_ant_steep, 337.5 / 44.75, 1e-12, "scene steep radius");
     CHECK_NEAR(s.eye.steep_axis, 95, 0, "scene axis");
     CHECK_NEAR(s.ordering_centre, 95, 0, "ordering centred on the steep meridian");
