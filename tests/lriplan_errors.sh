@@ -36,11 +36,12 @@ for c in "${cases[@]}"; do
         fails=$((fails + 1))
     fi
 done
-for args in "" "-o $tmp/x" "$tmp/none.yaml" "--step 0 plans/patients/wtr-od.yaml -o $tmp/x"; do
+for args in "" "-o $tmp/x" "$tmp/none.yaml" "--step 0 plans/patients/wtr-od.yaml -o $tmp/x" \
+    "--base $tmp/none.yaml plans/patients/wtr-od.yaml -o $tmp/x"; do
     rc=0
     "$B/lri-plan" $args > /dev/null 2> "$tmp/err" || rc=$?
     if [ $rc -eq 2 ] && [ ! -e "$tmp/x" ]; then echo "ok   usage '$args': $(head -1 "$tmp/err")"
     else echo "FAIL usage '$args': exit $rc"; fails=$((fails + 1)); fi
 done
-echo "lriplan_errors: $((7 + 4 - fails)) passed, $fails failed"
+echo "lriplan_errors: $((7 + 5 - fails)) passed, $fails failed"
 [ $fails -eq 0 ]

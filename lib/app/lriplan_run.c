@@ -78,13 +78,13 @@ static int blade(kt_lri_answer *a, kt_err *e)
     return KT_OK;
 }
 
-static int write_scene(const kt_lriplan_opts *o, kt_lri_answer *a, const char *path, kt_err *e)
+/* The patient's scene from the base (checked before anything is written). */
+static int make_scene(const kt_lriplan_opts *o, const kt_lri_answer *a, kt_scene *s, char *base, kt_err *e)
 {
-    char base[PATHLEN];
-    if (o->base) snprintf(base, sizeof base, "%s", o->base);
-    else snprintf(base, sizeof base, "%s/../plans/eye.yaml", KT_SHARE_DIR);
-    kt_scene *b = kt_calloc(1, sizeof *b, e), *s = kt_calloc(1, sizeof *s, e);
-    int rc = b && s ? KT_OK : e->code;
+    if (o->base) snprintf(base, PATHLEN, "%s", o->base);
+    else snprintf(base, PATHLEN, "%s/../plans/eye.yaml", KT_SHARE_DIR);
+    kt_scene *b = kt_calloc(1, sizeof *b, e);
+    int rc = b ? KT_OK : e->code;
     if (rc == KT_OK) rc = kt_scene_load(base, b, e);
     if (rc == KT_OK) rc = kt_patient_scene(&a->p, b, s, e);
     if (rc == KT_OK && o->fast) {
@@ -92,16 +92,18 @@ static int write_scene(const kt_lriplan_opts *o, kt_lri_answer *a, const char *p
         s->eye.h_optical = 0.6, s->eye.h_incision = 0.3, s->eye.h_cornea = 0.8, s->eye.h_sclera = 2.5;
         s->eye.h_floor = 0;
     }
-    kt_out out;
-    if (rc == KT_OK) rc = kt_out_open(&out, path, e);
-    if (rc == KT_OK) {
-        char head[1400];
-        snprintf(head, sizeof head, "the eye of patient %s, made by lri-plan from %s (keratome-patient(5))", a->p.name, base);
-        rc = kt_scene_write_eye(out.f, s, head, e);
-        rc = rc ? (kt_out_abort(&out), rc) : kt_out_commit(&out, e);
-    }
-    free(b), free(s);
+    free(b);
     return rc;
+}
+
+static int write_scene(const kt_lri_answer *a, const kt_scene *s, const char *base, const char *path, kt_err *e)
+{
+    kt_out out;
+    if (kt_out_open(&out, path, e)) return e->code;
+    char head[1400];
+    snprintf(head, sizeof head, "the eye of patient %s, made by lri-plan from %s (keratome-patient(5))", a->p.name, base);
+    int rc = kt_scene_write_eye(out.f, s, head, e);
+    return rc ? (kt_out_abort(&out), rc) : kt_out_commit(&out, e);
 }
 
 static int write_plan(const kt_lriplan_opts *o, const kt_lri_answer *a, int paired, const char *path, kt_err *e)
@@ -198,16 +200,18 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
 {
     kt_lri_answer *a = kt_calloc(1, sizeof *a, e);
     if (!a) return e->code;
-    char scene[PATHLEN], mesh[PATHLEN], json[PATHLEN];
-    int rc = kt_patient_load(o->patient, &a->p, e);
+    char scene[PATHLEN], mesh[PATHLEN], json[PATHLEN], base[PATHLEN];
+    kt_scene *s = kt_calloc(1, sizeof *s, e);
+    int rc = s ? kt_patient_load(o->patient, &a->p, e) : e->code;
     if (rc == KT_OK && a->p.ant.source == KT_SOURCE_PENTACAM) rc = fit_pentacam(a, e);
     if (rc == KT_OK) rc = blade(a, e);
     if (rc == KT_OK && !(o->step > 0 && o->step <= a->p.max_arc))
         rc = kt_fail(e, KT_EINPUT, "--step %g: expected an angle in (0, max_arc = %g] deg", o->step, a->p.max_arc);
+    if (rc == KT_OK) rc = make_scene(o, a, s, base, e);
     if (rc == KT_OK) rc = kt_mkdir_p(o->outdir, e);
     if (rc == KT_OK) rc = join(scene, o->outdir, "scene.yaml", e) || join(mesh, o->outdir, "eye.msh", e) ||
                           join(json, o->outdir, "plan.json", e) ? e->code : KT_OK;
-    if (rc == KT_OK) rc = write_scene(o, a, scene, e);
+    if (rc == KT_OK) rc = write_scene(a, s, base, scene, e);
     if (rc == KT_OK) {
         kt_log(o->quiet, "lri-plan: meshing %s\n", scene);
         kt_prep_opts po = {scene, mesh, 0, 0, 1, o->quiet};
@@ -230,6 +234,6 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
         rc = kt_lri_write_json(a, o, json, e);
     }
     if (rc == KT_OK && summary) kt_lri_summary(a, o, summary);
-    free(a);
+    free(a), free(s);
     return rc;
 }
