@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.."
 secs=${1:?usage: fuzz.sh SECONDS [HARNESS...]}
 shift
 harnesses=("$@")
-[ ${#harnesses[@]} -eq 0 ] && harnesses=(scene plan msh_ascii msh_binary edits vtk)
+[ ${#harnesses[@]} -eq 0 ] && harnesses=(scene plan msh_ascii msh_binary edits vtk patient pentacam)
 build=${KT_FUZZ_BUILD:-build-fuzz}
 if [ "${KT_FUZZ_NOBUILD:-0}" != 1 ]; then
     cmake -S . -B "$build" -DKT_FUZZ=ON -DKT_WITH_CGAL=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \

@@ -10,7 +10,7 @@ want=$(sed -n 's/^project(keratome VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
 tmp=$(mktemp -d /tmp/kt_version_XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 fails=0
-for tool in mesh-prep cutplan augsolve curvature; do
+for tool in mesh-prep cutplan augsolve curvature lri-plan; do
     rc=0
     "$B/$tool" --version > "$tmp/out" 2> "$tmp/err" || rc=$?
     if [ $rc -eq 0 ] && [ "$(cat "$tmp/out")" = "$tool (keratome) $want" ] && [ ! -s "$tmp/err" ]; then

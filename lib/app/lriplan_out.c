@@ -1,0 +1,207 @@
+/* lriplan_out.c: lri-plan's answer: the predicted astigmatism per arc, the choice, plan.json
+ * and the one-screen summary (lri-plan(1)). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "lriplan_int.h"
+
+static kt_astig add(kt_astig a, kt_astig b)
+{
+    double x[2], y[2];
+    kt_astig_xy(a, x);
+    kt_astig_xy(b, y);
+    return kt_astig_from_xy(x[0] + y[0], x[1] + y[1]);
+}
+
+/* A clock hour as the surgeon reads the eye (12 superior, 3 at the examiner's right), in
+ * [1, 13): 12.5 is half past twelve. */
+static double clock_hour(double deg)
+{
+    double h = fmod(3 - deg / 30 + 48, 12);
+    return h < 1 ? h + 12 : h;
+}
+
+/* The clock position as "h:mm" (12:50 is just past twelve, towards one). */
+static void clock_text(double deg, char out[8])
+{
+    int m = (int)lround(clock_hour(deg) * 60) % 720;
+    int h = m / 60 % 12;
+    snprintf(out, 8, "%d:%02d", h == 0 ? 12 : h, m % 60);
+}
+
+static double wrap360(double d) { return fmod(fmod(d, 360) + 360, 360); }
+
+void kt_lri_choose(kt_lri_answer *a)
+{
+    const kt_patient *p = &a->p;
+    /* The posterior surface: powers -40/R; the steep (more negative) meridian adds plus
+     * cylinder at 90 deg from it. The mesh's posterior is rotationally symmetric, so this is
+     * added to the simulated total (keratome-patient(5)). */
+    double ps = kt_patient_post_k(p->post.r_steep), pf = kt_patient_post_k(p->post.r_flat);
+    a->post_vec.mag = pf - ps;
+    a->post_vec.axis = fmod(p->post.axis + 90, 180);
+    a->main_vec.mag = p->main_present && !p->main_simulate ? p->main_sia : 0;
+    a->main_vec.axis = p->main_sia_axis;
+    a->chosen = 0;
+    double best = INFINITY;
+    for (int i = 0; i < a->nfam; i++) {
+        kt_lri_family *f = &a->fam[i];
+        f->best = 0;
+        for (int k = 0; k <= f->nstep; k++) {
+            kt_astig sim = p->target_kind == KT_TARGET_TOTAL ? add(f->total[k], a->post_vec) : f->kerato[k];
+            f->pred[k] = add(sim, a->main_vec);
+            if (f->pred[k].mag < f->pred[f->best].mag - 1e-9) f->best = k;
+        }
+        double r = f->pred[f->best].mag;
+        /* Within 0.01 D, the fewer incisions (families run single first). */
+        if (r < best - 0.01) best = r, a->chosen = i;
+    }
+    if (a->nfam) {
+        const kt_lri_family *f0 = &a->fam[0];
+        a->pre_kerato = add(f0->kerato[0], a->main_vec);
+        a->pre_total = add(add(f0->total[0], a->post_vec), a->main_vec);
+    }
+}
+
+static void arc_ends(const kt_lri_answer *a, double arc, double centre, double ends[2])
+{
+    (void)a;
+    ends[0] = wrap360(centre - arc / 2), ends[1] = wrap360(centre + arc / 2);
+}
+
+int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const char *path, kt_err *e)
+{
+    const kt_patient *p = &a->p;
+    const kt_lri_family *f = &a->fam[a->chosen];
+    double arc = f->arc[f->best], ends[2];
+    kt_out out;
+    if (kt_out_open(&out, path, e)) return e->code;
+    FILE *j = out.f;
+    fprintf(j, "{\n  \"tool\": \"lri-plan\", \"version\": \"%s\",\n", KT_VERSION);
+    fprintf(j, "  \"patient\": {\"file\": \"%s\", \"name\": \"%s\", \"eye\": \"%s\", \"age\": %g, \"iop_mmHg\": %.2f,\n",
+            p->path, p->name, p->eye == KT_EYE_OS ? "OS" : "OD", p->age, p->iop / 133.322387415e-6);
+    fprintf(j, "    \"anterior\": {\"source\": \"%s\", \"k_steep_D\": %.3f, \"k_flat_D\": %.3f, \"steep_axis_deg\": %.2f, "
+               "\"r_steep_mm\": %.4f, \"r_flat_mm\": %.4f},\n",
+            a->fitted ? "pentacam" : "keratometry", kt_patient_k(p->ant.r_steep), kt_patient_k(p->ant.r_flat), p->ant.axis,
+            p->ant.r_steep, p->ant.r_flat);
+    fprintf(j, "    \"posterior\": {\"source\": \"%s\", \"k_steep_D\": %.3f, \"k_flat_D\": %.3f, \"steep_axis_deg\": %.2f},\n",
+            p->post.source == KT_SOURCE_DEFAULT ? "population default (Koch et al. 2012)"
+            : p->post.source == KT_SOURCE_PENTACAM ? "pentacam" : "keratometry",
+            kt_patient_post_k(p->post.r_steep), kt_patient_post_k(p->post.r_flat), p->post.axis);
+    fprintf(j, "    \"central_thickness_um\": %.1f, \"thickness_at_zone_um\": %.1f, \"white_to_white_mm\": %.2f},\n",
+            1000 * p->t_central, 1000 * a->t_zone, p->wtw);
+    if (a->fitted) {
+        fprintf(j, "  \"fit\": {\"zone_mm\": %g, \"anterior\": {\"r_steep_mm\": %.5f, \"r_flat_mm\": %.5f, \"axis_deg\": %.3f, "
+                   "\"Q\": %.4f, \"rms_um\": %.3f, \"max_um\": %.3f, \"cells\": %d}",
+                a->fit_ant.zone, a->fit_ant.r_steep, a->fit_ant.r_flat, a->fit_ant.axis, a->fit_ant.conic, 1000 * a->fit_ant.rms,
+                1000 * a->fit_ant.max_resid, a->fit_ant.npts);
+        if (a->fit_post_ok)
+            fprintf(j, ",\n    \"posterior\": {\"r_steep_mm\": %.5f, \"r_flat_mm\": %.5f, \"axis_deg\": %.3f, \"Q\": %.4f, "
+                       "\"rms_um\": %.3f, \"max_um\": %.3f, \"cells\": %d}",
+                    a->fit_post.r_steep, a->fit_post.r_flat, a->fit_post.axis, a->fit_post.conic, 1000 * a->fit_post.rms,
+                    1000 * a->fit_post.max_resid, a->fit_post.npts);
+        if (a->fit_pachy_ok)
+            fprintf(j, ",\n    \"pachymetry\": {\"t0_um\": %.2f, \"t2_um_per_mm2\": %.4f, \"t4_um_per_mm4\": %.5f, \"r_max_mm\": %g, "
+                       "\"rms_um\": %.3f, \"max_um\": %.3f, \"cells\": %d}",
+                    1000 * a->fit_pachy.t0, 1000 * a->fit_pachy.t2, 1000 * a->fit_pachy.t4, a->fit_pachy.r_max,
+                    1000 * a->fit_pachy.rms, 1000 * a->fit_pachy.max_resid, a->fit_pachy.npts);
+        fprintf(j, "},\n");
+    }
+    fprintf(j, "  \"main_incision\": {\"present\": %s, \"meridian_deg\": %.1f, \"width_mm\": %.2f, \"kind\": \"%s\", "
+               "\"sia\": \"%s\", \"sia_added_D\": %.3f, \"sia_axis_deg\": %.1f},\n",
+            p->main_present ? "true" : "false", p->main_meridian, p->main_width,
+            p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear_corneal",
+            !p->main_present ? "none" : p->main_simulate ? "simulate: not yet modelled, not included" : "surgeon's vector",
+            a->main_vec.mag, a->main_vec.axis);
+    fprintf(j, "  \"target\": {\"astigmatism\": \"%s\", \"residual_D\": %.2f},\n",
+            p->target_kind == KT_TARGET_TOTAL ? "total_corneal" : "keratometric", p->target_residual);
+    fprintf(j, "  \"pre_op\": {\"keratometric_D\": %.3f, \"keratometric_axis_deg\": %.1f, \"total_D\": %.3f, \"total_axis_deg\": %.1f, "
+               "\"posterior_contribution_D\": %.3f, \"posterior_contribution_axis_deg\": %.1f},\n",
+            a->pre_kerato.mag, a->pre_kerato.axis, a->pre_total.mag, a->pre_total.axis, a->post_vec.mag, a->post_vec.axis);
+    arc_ends(a, arc, p->ant.axis, ends);
+    kt_astig kpost = f->kerato[f->best], tpost = f->total[f->best];
+    char c0[8], c1[8];
+    clock_text(ends[0], c0), clock_text(ends[1], c1);
+    fprintf(j, "  \"plan\": {\"incisions\": \"%s\", \"arc_deg\": %.1f, \"centre_deg\": %.2f, \"from_deg\": %.1f, \"to_deg\": %.1f, "
+               "\"from_clock\": \"%s\", \"to_clock\": \"%s\", \"chord_mm\": %.2f, \"zone_mm\": %.2f, \"blade_um\": %.0f,\n",
+            f->paired ? "paired" : "single", arc, p->ant.axis, ends[0], ends[1], c0, c1, p->zone * sin(arc / 2 * KT_CURV_DEG),
+            p->zone, 1000 * a->blade);
+    fprintf(j, "    \"predicted_residual_D\": %.3f, \"predicted_residual_axis_deg\": %.1f, \"reached\": %s,\n", f->pred[f->best].mag,
+            f->pred[f->best].axis, f->pred[f->best].mag <= p->target_residual ? "true" : "false");
+    fprintf(j, "    \"post_op_keratometric_D\": %.3f, \"post_op_keratometric_axis_deg\": %.1f, \"post_op_total_D\": %.3f, "
+               "\"post_op_total_axis_deg\": %.1f},\n",
+            add(kpost, a->main_vec).mag, add(kpost, a->main_vec).axis, add(add(tpost, a->post_vec), a->main_vec).mag,
+            add(add(tpost, a->post_vec), a->main_vec).axis);
+    fprintf(j, "  \"candidates\": [");
+    for (int i = 0; i < a->nfam; i++) {
+        const kt_lri_family *c = &a->fam[i];
+        fprintf(j, "%s\n    {\"incisions\": \"%s\", \"best_arc_deg\": %.1f, \"best_residual_D\": %.3f, \"curve\": [", i ? "," : "",
+                c->paired ? "paired" : "single", c->arc[c->best], c->pred[c->best].mag);
+        for (int k = 0; k <= c->nstep; k++)
+            fprintf(j, "%s{\"arc_deg\": %.1f, \"residual_D\": %.4f, \"residual_axis_deg\": %.1f, \"keratometric_D\": %.4f, "
+                       "\"total_D\": %.4f}",
+                    k ? ", " : "", c->arc[k], c->pred[k].mag, c->pred[k].axis, c->kerato[k].mag, c->total[k].mag);
+        fprintf(j, "]}");
+    }
+    fprintf(j, "\n  ],\n  \"provenance\": {\"scene\": \"scene.yaml\", \"mesh\": \"eye.msh\", \"mesh_hash\": \"%016llx\", "
+               "\"mesh_nodes\": %d, \"fast\": %s, \"step_deg\": %g, \"mesh_seconds\": %.1f, \"solve_seconds\": %.1f}\n}\n",
+            (unsigned long long)a->mesh_hash, a->nodes, o->fast ? "true" : "false", o->step, a->mesh_seconds,
+            a->solve_seconds);
+    if (ferror(j)) {
+        kt_out_abort(&out);
+        return kt_fail(e, KT_ERUN, "%s: write failed", path);
+    }
+    return kt_out_commit(&out, e);
+}
+
+void kt_lri_summary(const kt_lri_answer *a, const kt_lriplan_opts *o, FILE *s)
+{
+    const kt_patient *p = &a->p;
+    const kt_lri_family *f = &a->fam[a->chosen];
+    double arc = f->arc[f->best], ends[2];
+    fprintf(s, "lri-plan: %s, %s, %g y\n", p->name, p->eye == KT_EYE_OS ? "OS (left)" : "OD (right)", p->age);
+    fprintf(s, "  cornea (%s): K %.2f / %.2f D @ %.0f deg; posterior %.2f / %.2f D @ %.0f deg (%s)\n",
+            a->fitted ? "Pentacam fit" : "keratometry", kt_patient_k(p->ant.r_steep), kt_patient_k(p->ant.r_flat), p->ant.axis,
+            kt_patient_post_k(p->post.r_steep), kt_patient_post_k(p->post.r_flat), p->post.axis,
+            p->post.source == KT_SOURCE_DEFAULT ? "population default" : "measured");
+    if (a->fitted)
+        fprintf(s, "  fit over %g mm: anterior Q %.3f, residual rms %.2f um (max %.2f um, %d cells)%s\n", a->fit_ant.zone,
+                a->fit_ant.conic, 1000 * a->fit_ant.rms, 1000 * a->fit_ant.max_resid, a->fit_ant.npts,
+                a->fit_post_ok ? "" : "; no posterior map");
+    if (a->fitted && a->fit_post_ok)
+        fprintf(s, "               posterior Q %.3f, residual rms %.2f um (max %.2f um, %d cells)\n", a->fit_post.conic,
+                1000 * a->fit_post.rms, 1000 * a->fit_post.max_resid, a->fit_post.npts);
+    if (a->fitted && a->fit_pachy_ok)
+        fprintf(s, "               pachymetry %.0f um central, residual rms %.2f um (max %.2f um)\n", 1000 * a->fit_pachy.t0,
+                1000 * a->fit_pachy.rms, 1000 * a->fit_pachy.max_resid);
+    fprintf(s, "  pre-op astigmatism%s: keratometric %.2f D @ %.0f, total corneal %.2f D @ %.0f\n",
+            a->main_vec.mag > 0 ? " (with the main incision's SIA)" : "", a->pre_kerato.mag, a->pre_kerato.axis,
+            a->pre_total.mag, a->pre_total.axis);
+    if (p->main_present)
+        fprintf(s, "  main incision: %.1f mm %s at %.0f deg: %s\n", p->main_width,
+                p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear corneal", p->main_meridian,
+                p->main_simulate ? "simulation not yet modelled, its SIA is NOT included" : "surgeon's SIA added");
+    for (int i = 0; i < a->nfam; i++) {
+        const kt_lri_family *c = &a->fam[i];
+        fprintf(s, "  %-6s arcs: best %4.0f deg, residual %.2f D @ %.0f\n", c->paired ? "paired" : "single", c->arc[c->best],
+                c->pred[c->best].mag, c->pred[c->best].axis);
+    }
+    arc_ends(a, arc, p->ant.axis, ends);
+    if (arc == 0) {
+        fprintf(s, "  answer: no arc (none lowers the %s residual)\n",
+                p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric");
+    } else {
+        char c0[8], c1[8];
+        clock_text(ends[0], c0), clock_text(ends[1], c1);
+        fprintf(s, "  answer: %s %.0f deg at the %.1f mm zone, %.0f um deep: from %.0f to %.0f deg (%s to %s)%s,"
+                   " chord %.2f mm\n",
+                f->paired ? "paired" : "single", arc, p->zone, 1000 * a->blade, ends[0], ends[1], c0, c1,
+                f->paired ? " and opposite" : "", p->zone * sin(arc / 2 * KT_CURV_DEG));
+    }
+    fprintf(s, "  predicted %s residual %.2f D @ %.0f: %s the %.2f D target\n",
+            p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric", f->pred[f->best].mag, f->pred[f->best].axis,
+            f->pred[f->best].mag <= p->target_residual ? "reaches" : "does NOT reach", p->target_residual);
+    fprintf(s, "  written: %s/plan.json, scene.yaml, eye.msh, run-*/ (mesh %.0f s, solves %.0f s%s)\n", o->outdir,
+            a->mesh_seconds, a->solve_seconds, o->fast ? ", --fast" : "");
+}

@@ -1,0 +1,239 @@
+/* lriplan_run.c: lri-plan's run: the patient, its fit and scene, one mesh, a centre-out run per
+ * family of arcs, their curvature tables (keratome-patient(5), lri-plan(1)). */
+#define _POSIX_C_SOURCE 200809L
+#include "lriplan_run.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "augsolve_run.h"
+#include "curvature_run.h"
+#include "cutplan_run.h"
+#include "lriplan_int.h"
+#include "meshprep_run.h"
+#include "msh.h"
+#include "scene_write.h"
+
+#define PATHLEN 1200
+
+void kt_lriplan_opts_default(kt_lriplan_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->step = 5;
+}
+
+static int join(char *dst, const char *dir, const char *name, kt_err *e)
+{
+    if (snprintf(dst, PATHLEN, "%s/%s", dir, name) >= PATHLEN) return kt_fail(e, KT_EINPUT, "%s/%s: path too long", dir, name);
+    return KT_OK;
+}
+
+/* The cornea from the Pentacam maps: anterior (required), posterior and pachymetry. */
+static int fit_pentacam(kt_lri_answer *a, kt_err *e)
+{
+    kt_patient *p = &a->p;
+    kt_pentacam_map m;
+    if (kt_pentacam_read(p->pentacam_front, KT_PENTACAM_ELEVATION, &m, e)) return e->code;
+    int rc = kt_surffit_elevation(&m, KT_SURFFIT_ZONE, &a->fit_ant, e);
+    kt_pentacam_free(&m);
+    if (rc) return rc;
+    p->ant.r_steep = a->fit_ant.r_steep, p->ant.r_flat = a->fit_ant.r_flat;
+    p->ant.axis = a->fit_ant.axis, p->ant.conic = a->fit_ant.conic;
+    if (p->pentacam_back[0]) {
+        if (kt_pentacam_read(p->pentacam_back, KT_PENTACAM_ELEVATION, &m, e)) return e->code;
+        rc = kt_surffit_elevation(&m, KT_SURFFIT_ZONE, &a->fit_post, e);
+        kt_pentacam_free(&m);
+        if (rc) return rc;
+        a->fit_post_ok = 1;
+        p->post.r_steep = a->fit_post.r_steep, p->post.r_flat = a->fit_post.r_flat;
+        p->post.axis = a->fit_post.axis, p->post.conic = a->fit_post.conic;
+    }
+    if (p->pentacam_pachy[0]) {
+        if (kt_pentacam_read(p->pentacam_pachy, KT_PENTACAM_PACHYMETRY, &m, e)) return e->code;
+        double rmax = fmin(p->zone / 2 + 0.5, KT_PENTACAM_HALF);
+        rc = kt_surffit_pachymetry(&m, a->fit_ant.ax, a->fit_ant.ay, rmax, &a->fit_pachy, e);
+        kt_pentacam_free(&m);
+        if (rc) return rc;
+        a->fit_pachy_ok = 1;
+        p->t_central = a->fit_pachy.t0;
+        if (isnan(p->t_zone)) p->t_zone = kt_pachyfit_at(&a->fit_pachy, p->zone / 2);
+    }
+    a->fitted = 1;
+    if (!(p->ant.r_steep > 5 && p->ant.r_flat < 12))
+        return kt_fail(e, KT_EINPUT, "%s: the fitted anterior radii %.3f / %.3f mm are not a cornea's", p->pentacam_front,
+                       p->ant.r_steep, p->ant.r_flat);
+    return KT_OK;
+}
+
+/* Pachymetry at the zone and the blade depth; a blade deeper than 90% of it is bad input. */
+static int blade(kt_lri_answer *a, kt_err *e)
+{
+    kt_patient *p = &a->p;
+    a->t_zone = isnan(p->t_zone) ? kt_patient_model_zone_thickness(p) : p->t_zone;
+    a->blade = p->depth_fraction > 0 ? p->depth_fraction * a->t_zone : p->depth;
+    if (!(a->blade <= KT_PATIENT_DEPTH_MAX * a->t_zone + 1e-12))
+        return kt_fail(e, KT_EINPUT, "%s: constraints.depth: expected at most %g%% of the pachymetry at the zone (%.0f um), got %.0f um",
+                       p->path, 100 * KT_PATIENT_DEPTH_MAX, 1000 * KT_PATIENT_DEPTH_MAX * a->t_zone, 1000 * a->blade);
+    return KT_OK;
+}
+
+/* The patient's scene from the base (checked before anything is written). */
+static int make_scene(const kt_lriplan_opts *o, const kt_lri_answer *a, kt_scene *s, char *base, kt_err *e)
+{
+    if (o->base) snprintf(base, PATHLEN, "%s", o->base);
+    else snprintf(base, PATHLEN, "%s/../plans/eye.yaml", KT_SHARE_DIR);
+    kt_scene *b = kt_calloc(1, sizeof *b, e);
+    int rc = b ? KT_OK : e->code;
+    if (rc == KT_OK) rc = kt_scene_load(base, b, e);
+    if (rc == KT_OK) rc = kt_patient_scene(&a->p, b, s, e);
+    if (rc == KT_OK && o->fast) {
+        /* --fast: coarse sizes, no floor refinement (lri-plan(1)). */
+        s->eye.h_optical = 0.6, s->eye.h_incision = 0.3, s->eye.h_cornea = 0.8, s->eye.h_sclera = 2.5;
+        s->eye.h_floor = 0;
+    }
+    free(b);
+    return rc;
+}
+
+static int write_scene(const kt_lri_answer *a, const kt_scene *s, const char *base, const char *path, kt_err *e)
+{
+    kt_out out;
+    if (kt_out_open(&out, path, e)) return e->code;
+    char head[1400];
+    snprintf(head, sizeof head, "the eye of patient %s, made by lri-plan from %s (keratome-patient(5))", a->p.name, base);
+    int rc = kt_scene_write_eye(out.f, s, head, e);
+    return rc ? (kt_out_abort(&out), rc) : kt_out_commit(&out, e);
+}
+
+static int write_plan(const kt_lriplan_opts *o, const kt_lri_answer *a, int paired, const char *path, kt_err *e)
+{
+    const kt_patient *p = &a->p;
+    kt_out out;
+    if (kt_out_open(&out, path, e)) return e->code;
+    int nstep = (int)floor(p->max_arc / o->step + 1e-9);
+    fprintf(out.f, "# lri-plan: %s arcs on the steep meridian, cut centre-out to %g deg\n", paired ? "paired" : "single",
+            nstep * o->step);
+    fprintf(out.f, "name: lri-%s\nscene: scene.yaml\nincisions:\n", paired ? "paired" : "single");
+    fprintf(out.f, "  - meridian: %.17g deg\n    arc: %.17g deg\n", p->ant.axis, nstep * o->step);
+    if (p->depth_fraction > 0) fprintf(out.f, "    depth_fraction: %.17g\n", p->depth_fraction);
+    else fprintf(out.f, "    depth: %.17g mm\n", p->depth);
+    fprintf(out.f, "    position: {surface: incision-ring-1}\n    paired: %s\n    direction: centre-out\n",
+            paired ? "true" : "false");
+    fprintf(out.f, "progression: {degrees_per_step: %.17g deg}\n", o->step);
+    if (ferror(out.f)) {
+        kt_out_abort(&out);
+        return kt_fail(e, KT_ERUN, "%s: write failed", path);
+    }
+    return kt_out_commit(&out, e);
+}
+
+/* The family's curvature.tsv: keratometric and total astigmatism per step. */
+static int read_table(const char *path, kt_lri_family *f, double step, kt_err *e)
+{
+    FILE *in = fopen(path, "r");
+    if (!in) return kt_fail(e, KT_ERUN, "%s: cannot open", path);
+    char line[8192];
+    int col[4] = {-1, -1, -1, -1}, row = -1;
+    static const char *const want[4] = {"cyl_D", "axis_steep_deg", "total_cyl_D", "total_axis_deg"};
+    while (fgets(line, sizeof line, in)) {
+        double v[4] = {NAN, NAN, NAN, NAN};
+        int k = 0;
+        for (char *tok = strtok(line, "\t\n"); tok; tok = strtok(NULL, "\t\n"), k++)
+            for (int c = 0; c < 4; c++) {
+                if (row < 0 && strcmp(tok, want[c]) == 0) col[c] = k;
+                if (row >= 0 && col[c] == k) v[c] = strtod(tok, NULL);
+            }
+        if (row >= 0 && row <= KT_LRIPLAN_MAXSTEP) {
+            f->kerato[row].mag = v[0], f->kerato[row].axis = v[1];
+            f->total[row].mag = v[2], f->total[row].axis = v[3];
+            f->arc[row] = row * step;
+        }
+        row++;
+    }
+    fclose(in);
+    if (col[0] < 0 || col[3] < 0 || row - 1 != f->nstep)
+        return kt_fail(e, KT_ERUN, "%s: expected the columns cyl_D ... total_axis_deg and %d steps, found %d", path,
+                       f->nstep, row - 1);
+    return KT_OK;
+}
+
+static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, int paired, const char *mesh, kt_err *e)
+{
+    const char *name = paired ? "paired" : "single";
+    char plan[PATHLEN], edits[PATHLEN], run[PATHLEN], tsv[PATHLEN], leaf[64];
+    kt_lri_family *f = &a->fam[a->nfam];
+    memset(f, 0, sizeof *f);
+    f->paired = paired;
+    f->nstep = (int)floor(a->p.max_arc / o->step + 1e-9);
+    if (f->nstep > KT_LRIPLAN_MAXSTEP) return kt_fail(e, KT_EINPUT, "--step %g: expected at most %d steps to max_arc", o->step, KT_LRIPLAN_MAXSTEP);
+    snprintf(leaf, sizeof leaf, "plan-%s.yaml", name);
+    if (join(plan, o->outdir, leaf, e)) return e->code;
+    snprintf(leaf, sizeof leaf, "%s.edits", name);
+    if (join(edits, o->outdir, leaf, e)) return e->code;
+    snprintf(leaf, sizeof leaf, "run-%s", name);
+    if (join(run, o->outdir, leaf, e) || join(tsv, run, "curvature.tsv", e)) return e->code;
+    if (write_plan(o, a, paired, plan, e)) return e->code;
+    kt_log(o->quiet, "lri-plan: %s arcs: cutplan, augsolve, curvature\n", name);
+    kt_cutplan_opts co = {plan, mesh, edits, NULL, 0, 1};
+    if (kt_cutplan_run(&co, e)) return e->code;
+    kt_aug_run_opts ao;
+    kt_aug_run_opts_default(&ao);
+    ao.mesh = mesh, ao.edits = edits, ao.run_dir = run, ao.binary = 1, ao.aug.quiet = o->quiet;
+    double t0 = kt_now();
+    if (kt_aug_run(&ao, e)) return e->code;
+    a->solve_seconds += kt_now() - t0;
+    kt_curv_opts cv;
+    kt_curv_opts_default(&cv);
+    cv.run_dir = run, cv.png = cv.vtk_out = cv.report = 0, cv.quiet = 1;
+    FILE *sink = fopen("/dev/null", "w");
+    if (!sink) return kt_fail(e, KT_ERUN, "/dev/null: cannot open");
+    int rc = kt_curv_run(&cv, sink, e);
+    fclose(sink);
+    if (rc) return rc;
+    if (read_table(tsv, f, o->step, e)) return e->code;
+    a->nfam++;
+    return KT_OK;
+}
+
+int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
+{
+    kt_lri_answer *a = kt_calloc(1, sizeof *a, e);
+    if (!a) return e->code;
+    char scene[PATHLEN], mesh[PATHLEN], json[PATHLEN], base[PATHLEN];
+    kt_scene *s = kt_calloc(1, sizeof *s, e);
+    int rc = s ? kt_patient_load(o->patient, &a->p, e) : e->code;
+    if (rc == KT_OK && a->p.ant.source == KT_SOURCE_PENTACAM) rc = fit_pentacam(a, e);
+    if (rc == KT_OK) rc = blade(a, e);
+    if (rc == KT_OK && !(o->step > 0 && o->step <= a->p.max_arc))
+        rc = kt_fail(e, KT_EINPUT, "--step %g: expected an angle in (0, max_arc = %g] deg", o->step, a->p.max_arc);
+    if (rc == KT_OK) rc = make_scene(o, a, s, base, e);
+    if (rc == KT_OK) rc = kt_mkdir_p(o->outdir, e);
+    if (rc == KT_OK) rc = join(scene, o->outdir, "scene.yaml", e) || join(mesh, o->outdir, "eye.msh", e) ||
+                          join(json, o->outdir, "plan.json", e) ? e->code : KT_OK;
+    if (rc == KT_OK) rc = write_scene(a, s, base, scene, e);
+    if (rc == KT_OK) {
+        kt_log(o->quiet, "lri-plan: meshing %s\n", scene);
+        kt_prep_opts po = {scene, mesh, 0, 0, 1, o->quiet};
+        double t0 = kt_now();
+        FILE *sink = fopen("/dev/null", "w");
+        rc = sink ? kt_prep_run(&po, sink, e) : kt_fail(e, KT_ERUN, "/dev/null: cannot open");
+        if (sink) fclose(sink);
+        a->mesh_seconds = kt_now() - t0;
+    }
+    if (rc == KT_OK) {
+        /* The mesh's content hash (the one cutplan's edits header carries) and size. */
+        kt_mesh m;
+        rc = kt_msh_read(mesh, &m, e);
+        if (rc == KT_OK) a->mesh_hash = kt_mesh_hash(&m), a->nodes = m.nn, kt_mesh_free(&m);
+    }
+    if (rc == KT_OK && a->p.arcs != KT_ARCS_PAIRED) rc = run_family(o, a, 0, mesh, e);
+    if (rc == KT_OK && a->p.arcs != KT_ARCS_SINGLE) rc = run_family(o, a, 1, mesh, e);
+    if (rc == KT_OK) {
+        kt_lri_choose(a);
+        rc = kt_lri_write_json(a, o, json, e);
+    }
+    if (rc == KT_OK && summary) kt_lri_summary(a, o, summary);
+    free(a), free(s);
+    return rc;
+}

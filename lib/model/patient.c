@@ -1,0 +1,326 @@
+/* patient.c: load and validate a patient file (man/man5/keratome-patient.5). Every default is
+ * documented there with its source; every check runs before any meshing. */
+#include "patient.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "eye.h"
+#include "scene_int.h" /* the eye defaults of keratome-scene(5) */
+#include "yml.h"
+
+#define MMHG 133.322387415e-6 /* MPa per mmHg (conventional millimetre of mercury) */
+
+static const char *const TOP_KEYS[] = {"name", "description", "eye", "age", "iop", "cornea",
+                                       "main_incision", "target", "constraints", NULL};
+static const char *const CORNEA_KEYS[] = {"keratometry", "pentacam", "posterior", "central_thickness",
+                                          "thickness_at_zone", "white_to_white", NULL};
+static const char *const K_KEYS[] = {"k_steep", "k_flat", "steep_axis", NULL};
+static const char *const PENTA_KEYS[] = {"front", "back", "pachymetry", NULL};
+static const char *const MAIN_KEYS[] = {"meridian", "width", "kind", "sia", NULL};
+static const char *const SIA_KEYS[] = {"magnitude", "axis", NULL};
+static const char *const TARGET_KEYS[] = {"astigmatism", "residual", NULL};
+static const char *const CONS_KEYS[] = {"incisions", "max_arc", "zone", "depth", NULL};
+static const char *const EYES[] = {"OD", "OS", NULL};
+static const char *const KINDS[] = {"clear_corneal", "limbal", NULL};
+static const char *const TARGETS[] = {"total_corneal", "keratometric", NULL};
+static const char *const ARCS[] = {"either", "single", "paired", NULL};
+
+/* The optical zone a patient's arcs must stay outside, and the band left between the zone and
+ * the corneal edge: keratome-scene(5) defaults (eye.optical_zone, eye.limbus_width). */
+#define PATIENT_OPTICAL_ZONE 7.0
+#define PATIENT_LIMBUS 1.0
+
+double kt_patient_k(double r) { return 337.5 / r; }
+double kt_patient_post_k(double r) { return -KT_PATIENT_N_POST / r; }
+double kt_patient_age_factor(double age) { return 1 + 0.075 * (age - 60) / 10; }
+
+static const struct { const char *name; double od, os; } SITES[] = {
+    {"temporal", 180, 0},         {"nasal", 0, 180},          {"superior", 90, 90},
+    {"inferior", 270, 270},       {"superotemporal", 135, 45}, {"superonasal", 45, 135},
+    {"inferotemporal", 225, 315}, {"inferonasal", 315, 225}};
+
+double kt_patient_site(int eye, const char *name)
+{
+    for (size_t i = 0; i < sizeof SITES / sizeof SITES[0]; i++)
+        if (strcmp(SITES[i].name, name) == 0) return eye == KT_EYE_OS ? SITES[i].os : SITES[i].od;
+    return NAN;
+}
+
+static kt_yml_bounds range(double lo, double hi, int lo_open, int hi_open)
+{
+    kt_yml_bounds b = {lo, hi, lo_open, hi_open};
+    return b;
+}
+
+static void dir_of(const char *path, char *dir, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(dir, size, ".");
+    else if (slash == path) snprintf(dir, size, "/");
+    else snprintf(dir, size, "%.*s", (int)(slash - path), path);
+}
+
+static void defaults(kt_patient *p)
+{
+    memset(p, 0, sizeof *p);
+    p->iop = KT_PATIENT_IOP_MMHG * MMHG;
+    p->ant.conic = p->post.conic = NAN;
+    double kp = kt_patient_post_k(KT_PATIENT_POST_RADIUS);
+    p->post.r_steep = -KT_PATIENT_N_POST / (kp - KT_PATIENT_POST_CYL / 2);
+    p->post.r_flat = -KT_PATIENT_N_POST / (kp + KT_PATIENT_POST_CYL / 2);
+    p->post.axis = KT_PATIENT_POST_AXIS;
+    p->post.source = KT_SOURCE_DEFAULT;
+    p->t_central = 0.54; /* Doughty & Zaman 2000 */
+    p->t_zone = NAN;
+    p->wtw = 11.7;       /* Rufer et al. 2005 */
+    p->main_simulate = 1;
+    p->target_residual = 0.5; /* Villegas et al. 2014 */
+    p->max_arc = 90;
+    p->zone = 10.5;           /* Nichamin 2006 */
+    p->depth_fraction = KT_PATIENT_DEPTH_MAX;
+}
+
+/* An angle of an axis: [0, 180], 180 taken as 0. */
+static int axis_field(kt_yml *y, const yaml_node_t *map, const char *what, const char *key, double *v,
+                      kt_err *e)
+{
+    if (kt_yml_key_quantity(y, map, what, key, KT_UNIT_ANGLE, range(0, 180, 0, 0), v, e)) return e->code;
+    if (*v >= 180) *v = 0;
+    return KT_OK;
+}
+
+/* keratometry {k_steep, k_flat, steep_axis}: sign -1 for the posterior surface (negative
+ * powers, steep = larger magnitude), +1 for the anterior (keratometric index). */
+static int parse_k(kt_yml *y, const yaml_node_t *n, const char *what, int sign, kt_toric *t, kt_err *e)
+{
+    if (kt_yml_check_map(y, n, what, K_KEYS, e)) return e->code;
+    for (int i = 0; K_KEYS[i]; i++)
+        if (!kt_yml_require(y, n, K_KEYS[i], what, e)) return e->code;
+    kt_yml_bounds b = sign > 0 ? range(20, 70, 0, 0) : range(-15, -2, 0, 0);
+    double ks, kf;
+    if (kt_yml_key_quantity(y, n, what, "k_steep", KT_UNIT_POWER, b, &ks, e) ||
+        kt_yml_key_quantity(y, n, what, "k_flat", KT_UNIT_POWER, b, &kf, e) ||
+        axis_field(y, n, what, "steep_axis", &t->axis, e))
+        return e->code;
+    if (fabs(kf) > fabs(ks))
+        return kt_yml_fail(y, kt_yml_get(y, n, "k_flat"), e,
+                           "%s.k_flat: expected at most k_steep in magnitude (%g D), got %g D", what, ks, kf);
+    t->r_steep = sign > 0 ? 337.5 / ks : -KT_PATIENT_N_POST / ks;
+    t->r_flat = sign > 0 ? 337.5 / kf : -KT_PATIENT_N_POST / kf;
+    t->conic = NAN;
+    t->source = KT_SOURCE_KERATOMETRY;
+    return KT_OK;
+}
+
+/* A file path relative to the patient's folder; it must be readable. */
+static int path_field(kt_yml *y, const yaml_node_t *map, const char *what, const char *key, const char *dir,
+                      char *out, size_t size, kt_err *e)
+{
+    yaml_node_t *n = kt_yml_get(y, map, key);
+    if (!n) return KT_OK;
+    char f[96], rel[1024];
+    snprintf(f, sizeof f, "%s.%s", what, key);
+    if (kt_yml_string(y, n, f, rel, sizeof rel, e)) return e->code;
+    int len = rel[0] == '/' ? snprintf(out, size, "%s", rel) : snprintf(out, size, "%s/%s", dir, rel);
+    if (len >= (int)size) return kt_yml_fail(y, n, e, "%s: expected a shorter path", f);
+    FILE *probe = fopen(out, "rb");
+    if (!probe) return kt_yml_fail(y, n, e, "%s: expected an existing, readable file, '%s' cannot be opened", f, out);
+    fclose(probe);
+    return KT_OK;
+}
+
+static int parse_cornea(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *e)
+{
+    const char *w = "cornea";
+    if (kt_yml_check_map(y, n, w, CORNEA_KEYS, e)) return e->code;
+    yaml_node_t *k = kt_yml_get(y, n, "keratometry"), *pc = kt_yml_get(y, n, "pentacam");
+    if (!k == !pc)
+        return kt_yml_fail(y, k ? k : n, e, "cornea: expected exactly one of 'keratometry' or 'pentacam'");
+    if (k && parse_k(y, k, "cornea.keratometry", 1, &p->ant, e)) return e->code;
+    if (pc) {
+        const char *wp = "cornea.pentacam";
+        if (kt_yml_check_map(y, pc, wp, PENTA_KEYS, e) || !kt_yml_require(y, pc, "front", wp, e) ||
+            path_field(y, pc, wp, "front", p->dir, p->pentacam_front, sizeof p->pentacam_front, e) ||
+            path_field(y, pc, wp, "back", p->dir, p->pentacam_back, sizeof p->pentacam_back, e) ||
+            path_field(y, pc, wp, "pachymetry", p->dir, p->pentacam_pachy, sizeof p->pentacam_pachy, e))
+            return e->code;
+        p->ant.source = KT_SOURCE_PENTACAM;
+    }
+    yaml_node_t *post = kt_yml_get(y, n, "posterior");
+    if (post && p->pentacam_back[0])
+        return kt_yml_fail(y, post, e, "cornea.posterior: expected either it or cornea.pentacam.back, not both");
+    if (post && parse_k(y, post, "cornea.posterior", -1, &p->post, e)) return e->code;
+    if (p->pentacam_back[0]) p->post.source = KT_SOURCE_PENTACAM;
+    yaml_node_t *tc = kt_yml_get(y, n, "central_thickness");
+    if (tc && p->pentacam_pachy[0])
+        return kt_yml_fail(y, tc, e, "cornea.central_thickness: expected either it or cornea.pentacam.pachymetry, not both");
+    kt_yml_bounds thick = range(0.3, 1.2, 0, 0);
+    if (kt_yml_key_quantity(y, n, w, "central_thickness", KT_UNIT_LENGTH, thick, &p->t_central, e) ||
+        kt_yml_key_quantity(y, n, w, "thickness_at_zone", KT_UNIT_LENGTH, thick, &p->t_zone, e) ||
+        kt_yml_key_quantity(y, n, w, "white_to_white", KT_UNIT_LENGTH, range(9, 14, 0, 0), &p->wtw, e))
+        return e->code;
+    return KT_OK;
+}
+
+static int parse_main(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *e)
+{
+    const char *w = "main_incision";
+    if (kt_yml_check_map(y, n, w, MAIN_KEYS, e)) return e->code;
+    yaml_node_t *m = kt_yml_require(y, n, "meridian", w, e);
+    if (!m || !kt_yml_require(y, n, "width", w, e)) return e->code;
+    char text[64];
+    if (kt_yml_string(y, m, "main_incision.meridian", text, sizeof text, e)) return e->code;
+    p->main_meridian = kt_patient_site(p->eye, text);
+    if (isnan(p->main_meridian) &&
+        kt_yml_quantity(y, m, "main_incision.meridian (a site: temporal, nasal, superior, inferior, "
+                              "superotemporal, ...; or an angle)",
+                        KT_UNIT_ANGLE, range(0, 360, 0, 1), &p->main_meridian, e))
+        return e->code;
+    if (kt_yml_key_quantity(y, n, w, "width", KT_UNIT_LENGTH, range(1, 6, 0, 0), &p->main_width, e) ||
+        kt_yml_key_choice(y, n, w, "kind", KINDS, &p->main_kind, e))
+        return e->code;
+    yaml_node_t *sia = kt_yml_get(y, n, "sia");
+    if (sia && sia->type == YAML_SCALAR_NODE) {
+        static const char *const SIM[] = {"simulate", NULL};
+        int idx;
+        if (kt_yml_choice(y, sia, "main_incision.sia (or a mapping {magnitude, axis})", SIM, &idx, e))
+            return e->code;
+    } else if (sia) {
+        const char *ws = "main_incision.sia";
+        if (kt_yml_check_map(y, sia, ws, SIA_KEYS, e) || !kt_yml_require(y, sia, "magnitude", ws, e) ||
+            !kt_yml_require(y, sia, "axis", ws, e) ||
+            kt_yml_key_quantity(y, sia, ws, "magnitude", KT_UNIT_POWER, range(0, 5, 0, 0), &p->main_sia, e) ||
+            axis_field(y, sia, ws, "axis", &p->main_sia_axis, e))
+            return e->code;
+        p->main_simulate = 0;
+    }
+    p->main_present = 1;
+    return KT_OK;
+}
+
+/* constraints.depth: "90 %" of the pachymetry at the zone, or a length ("600 um"). */
+static int parse_depth(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *e)
+{
+    const char *what = "constraints.depth";
+    char text[64];
+    if (kt_yml_string(y, n, what, text, sizeof text, e)) return e->code;
+    size_t len = strlen(text);
+    while (len && isspace((unsigned char)text[len - 1])) len--;
+    if (len && text[len - 1] == '%') {
+        text[len - 1] = '\0';
+        double v;
+        if (kt_parse_double(text, &v) != 0) {
+            char *end;
+            v = strtod(text, &end);
+            while (*end && isspace((unsigned char)*end)) end++;
+            if (end == text || *end) return kt_yml_fail(y, n, e, "%s: expected a percentage like '90 %%'", what);
+        }
+        if (!(v > 0 && v <= 100 * KT_PATIENT_DEPTH_MAX))
+            return kt_yml_fail(y, n, e, "%s: expected a percentage of the pachymetry in (0, %g] %%, got %g %%", what,
+                               100 * KT_PATIENT_DEPTH_MAX, v);
+        p->depth_fraction = v / 100, p->depth = 0;
+        return KT_OK;
+    }
+    if (kt_yml_quantity(y, n, "constraints.depth (a percentage like '90 %' or a length)", KT_UNIT_LENGTH,
+                        KT_YML_POSITIVE, &p->depth, e))
+        return e->code;
+    p->depth_fraction = 0;
+    return KT_OK;
+}
+
+static int parse_rest(kt_yml *y, const yaml_node_t *root, kt_patient *p, kt_err *e)
+{
+    yaml_node_t *n;
+    if ((n = kt_yml_get(y, root, "main_incision")) && parse_main(y, n, p, e)) return e->code;
+    if ((n = kt_yml_get(y, root, "target"))) {
+        if (kt_yml_check_map(y, n, "target", TARGET_KEYS, e) ||
+            kt_yml_key_choice(y, n, "target", "astigmatism", TARGETS, &p->target_kind, e) ||
+            kt_yml_key_quantity(y, n, "target", "residual", KT_UNIT_POWER, range(0, 3, 0, 0), &p->target_residual, e))
+            return e->code;
+    }
+    if ((n = kt_yml_get(y, root, "constraints"))) {
+        const char *w = "constraints";
+        if (kt_yml_check_map(y, n, w, CONS_KEYS, e) || kt_yml_key_choice(y, n, w, "incisions", ARCS, &p->arcs, e) ||
+            kt_yml_key_quantity(y, n, w, "max_arc", KT_UNIT_ANGLE, range(10, 120, 0, 0), &p->max_arc, e) ||
+            kt_yml_key_quantity(y, n, w, "zone", KT_UNIT_LENGTH, KT_YML_POSITIVE, &p->zone, e))
+            return e->code;
+        yaml_node_t *d = kt_yml_get(y, n, "depth");
+        if (d && parse_depth(y, d, p, e)) return e->code;
+    }
+    return KT_OK;
+}
+
+double kt_patient_model_zone_thickness(const kt_patient *p)
+{
+    kt_eye eye;
+    kt_scene_eye_defaults(&eye);
+    eye.r_ant_steep = p->ant.source == KT_SOURCE_KERATOMETRY ? p->ant.r_steep : eye.r_ant_steep;
+    eye.r_ant_flat = p->ant.source == KT_SOURCE_KERATOMETRY ? p->ant.r_flat : eye.r_ant_flat;
+    eye.r_post = 2 / (1 / p->post.r_steep + 1 / p->post.r_flat);
+    eye.t_central = p->t_central;
+    eye.wtw = p->wtw;
+    return kt_eye_thickness(&eye, p->zone / 2);
+}
+
+/* Consistency: the zone between the optical zone and the corneal edge, the depth within the
+ * pachymetry at the zone. */
+static int check(kt_yml *y, const yaml_node_t *root, kt_patient *p, kt_err *e)
+{
+    yaml_node_t *cons = kt_yml_get(y, root, "constraints"), *cornea = kt_yml_get(y, root, "cornea");
+    yaml_node_t *zn = kt_yml_get(y, cons, "zone");
+    double clear = p->wtw - PATIENT_LIMBUS;
+    if (p->zone <= PATIENT_OPTICAL_ZONE || p->zone > clear)
+        return kt_yml_fail(y, zn ? zn : root, e,
+                           "constraints.zone: expected a diameter outside the optical zone (> %g mm) and inside "
+                           "white_to_white - limbus (<= %g mm), got %g mm",
+                           PATIENT_OPTICAL_ZONE, clear, p->zone);
+    if (!isnan(p->t_zone) && p->t_zone < p->t_central) {
+        yaml_node_t *t = kt_yml_get(y, cornea, "thickness_at_zone");
+        return kt_yml_fail(y, t, e, "cornea.thickness_at_zone: expected at least central_thickness (%g um), got %g um",
+                           1000 * p->t_central, 1000 * p->t_zone);
+    }
+    if (p->depth > 0) {
+        /* Without a measured pachymetry at the zone, the default eye's profile there. */
+        double t = isnan(p->t_zone) ? kt_patient_model_zone_thickness(p) : p->t_zone;
+        if (p->depth > KT_PATIENT_DEPTH_MAX * t)
+            return kt_yml_fail(y, kt_yml_get(y, cons, "depth"), e,
+                               "constraints.depth: expected at most %g%% of the pachymetry at the zone (%g um), got %g um",
+                               100 * KT_PATIENT_DEPTH_MAX, 1000 * KT_PATIENT_DEPTH_MAX * t, 1000 * p->depth);
+    }
+    return KT_OK;
+}
+
+static int parse(kt_yml *y, kt_patient *p, kt_err *e)
+{
+    yaml_node_t *root = kt_yml_root(y, e);
+    if (!root || kt_yml_check_map(y, root, "patient", TOP_KEYS, e)) return e->code;
+    yaml_node_t *n = kt_yml_get(y, root, "name");
+    if (n && kt_yml_string(y, n, "name", p->name, sizeof p->name, e)) return e->code;
+    if (!kt_yml_require(y, root, "eye", "patient", e) || !kt_yml_require(y, root, "age", "patient", e) ||
+        !kt_yml_require(y, root, "cornea", "patient", e))
+        return e->code;
+    if (kt_yml_key_choice(y, root, "patient", "eye", EYES, &p->eye, e) ||
+        kt_yml_key_quantity(y, root, "patient", "age", KT_UNIT_NONE, range(18, 110, 0, 0), &p->age, e) ||
+        kt_yml_key_quantity(y, root, "patient", "iop", KT_UNIT_PRESSURE, range(5 * MMHG, 60 * MMHG, 0, 0), &p->iop, e) ||
+        parse_cornea(y, kt_yml_get(y, root, "cornea"), p, e) || parse_rest(y, root, p, e))
+        return e->code;
+    return check(y, root, p, e);
+}
+
+int kt_patient_load(const char *path, kt_patient *p, kt_err *e)
+{
+    defaults(p);
+    if (strlen(path) >= sizeof p->path) return kt_fail(e, KT_EINPUT, "%.200s...: path too long", path);
+    strcpy(p->path, path);
+    dir_of(path, p->dir, sizeof p->dir);
+    const char *slash = strrchr(path, '/'), *b = slash ? slash + 1 : path, *dot = strrchr(b, '.');
+    snprintf(p->name, sizeof p->name, "%.*s", dot && dot != b ? (int)(dot - b) : (int)strlen(b), b);
+    kt_yml y;
+    if (kt_yml_load(&y, path, e)) return e->code;
+    int rc = parse(&y, p, e);
+    kt_yml_free(&y);
+    return rc;
+}

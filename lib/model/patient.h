@@ -1,0 +1,95 @@
+/* patient.h: the patient YAML of lri-plan (man/man5/keratome-patient.5): which eye, age, IOP,
+ * the cornea as keratometry or a Pentacam elevation export, the posterior cornea (measured or
+ * the documented population default), pachymetry, white-to-white, the main cataract incision,
+ * the target and the constraints on the arcs; and the patient's eye scene.
+ *
+ * Angles: TABO, degrees counter-clockwise from the examiner's right as the surgeon faces the
+ * patient (+x of the model, lib/model/eye.h), for both eyes. The examiner's right is the
+ * patient's left: nasal for a right eye (OD), temporal for a left eye (OS). So the temporal
+ * meridian is 180 deg in OD and 0 deg in OS; superior is 90 deg in both. */
+#ifndef KT_PATIENT_H
+#define KT_PATIENT_H
+
+#include "scene.h"
+
+enum { KT_EYE_OD = 0, KT_EYE_OS = 1 };
+enum { KT_SOURCE_DEFAULT = 0, KT_SOURCE_KERATOMETRY, KT_SOURCE_PENTACAM };
+enum { KT_MAIN_CLEAR_CORNEAL = 0, KT_MAIN_LIMBAL };
+enum { KT_TARGET_TOTAL = 0, KT_TARGET_KERATOMETRIC };
+enum { KT_ARCS_EITHER = 0, KT_ARCS_SINGLE, KT_ARCS_PAIRED };
+
+/* Population and convention defaults (sources in keratome-patient(5)). */
+#define KT_PATIENT_IOP_MMHG 15.0      /* Klein et al. 1992 (Beaver Dam Eye Study) */
+#define KT_PATIENT_POST_RADIUS 6.7    /* mm, mean posterior apical radius (keratome-scene(5)) */
+#define KT_PATIENT_POST_CYL 0.30      /* D, mean posterior astigmatism, Koch et al. 2012 */
+#define KT_PATIENT_POST_AXIS 90.0     /* deg, posterior steep meridian vertical, Koch et al. 2012 */
+#define KT_PATIENT_N_POST 40.0        /* D mm: 1000 (1.376 - 1.336), posterior surface power */
+#define KT_PATIENT_DEPTH_MAX 0.9      /* deepest blade setting, fraction of the pachymetry */
+
+/* A toric surface at its apex: radii of the steep and flat meridians, the steep meridian,
+ * the conic constant Q (NAN: not measured), and where the values came from. */
+typedef struct kt_toric {
+    double r_steep, r_flat;     /* mm */
+    double axis;                /* deg, 0 <= axis < 180 */
+    double conic;               /* Q (asphericity), NAN when not fitted */
+    int source;                 /* KT_SOURCE_* */
+} kt_toric;
+
+typedef struct kt_patient {
+    char path[1024], dir[1024];
+    char name[KT_NAME_MAX];
+    int eye;                    /* KT_EYE_OD or KT_EYE_OS */
+    double age;                 /* years */
+    double iop;                 /* MPa */
+    kt_toric ant, post;         /* anterior (keratometric index) and posterior corneal surfaces */
+    char pentacam_front[1024], pentacam_back[1024], pentacam_pachy[1024]; /* "" when absent;
+                                   resolved against the patient file's folder */
+    double t_central;           /* central pachymetry, mm */
+    double t_zone;              /* pachymetry at the incision zone, mm; NAN: from the model */
+    double wtw;                 /* white-to-white, mm */
+    int main_present;           /* a main incision is given */
+    double main_meridian;       /* its site, deg TABO, 0 <= m < 360 */
+    double main_width;          /* mm */
+    int main_kind;              /* KT_MAIN_* */
+    int main_simulate;          /* 1: cut in the model; 0: the surgeon's SIA vector below */
+    double main_sia, main_sia_axis; /* D, deg */
+    int target_kind;            /* KT_TARGET_* */
+    double target_residual;     /* D */
+    int arcs;                   /* KT_ARCS_* */
+    double max_arc;             /* deg */
+    double zone;                /* incision zone diameter, mm */
+    double depth_fraction;      /* fraction of the pachymetry at the zone, or 0 ... */
+    double depth;               /* ... the blade depth, mm */
+} kt_patient;
+
+/* Load and validate a patient file; bad input is KT_EINPUT "file:line:col: expected ...".
+ * A Pentacam cornea leaves ant (and post, t_central when the export has them) to be filled
+ * from the fit (lib/optics/surffit.h) by the caller. */
+int kt_patient_load(const char *path, kt_patient *p, kt_err *e);
+
+/* The pachymetry at the incision zone (mm) of the default eye's thickness profile
+ * (keratome-scene(5): peripheral_thickness 670 um at the limbus) with the patient's cornea,
+ * central thickness and white-to-white: the value used when cornea.thickness_at_zone is not
+ * given; NAN when those do not make an eye. */
+double kt_patient_model_zone_thickness(const kt_patient *p);
+
+/* Keratometric power of a radius, D (index 1.3375), and the posterior surface power, D (< 0). */
+double kt_patient_k(double r);
+double kt_patient_post_k(double r);
+
+/* The eye meridian (deg TABO) of a named site for this eye: "temporal", "nasal", "superior",
+ * "inferior", "superotemporal", "superonasal", "inferotemporal", "inferonasal"; NAN when the
+ * name is none of those. */
+double kt_patient_site(int eye, const char *name);
+
+/* The patient's scene: base (an eye scene, e.g. plans/eye.yaml) with the patient's anterior
+ * radii and axis, the posterior mean radius, central thickness, the peripheral thickness that
+ * gives the pachymetry at the zone, white-to-white, IOP, one incision ring at the zone and
+ * depth, the cornea and limbus moduli scaled by the age rule (keratome-patient(5)), and the
+ * ordering centred on the steep meridian. KT_EINPUT when the values do not make an eye. */
+int kt_patient_scene(const kt_patient *p, const kt_scene *base, kt_scene *s, kt_err *e);
+
+/* The age rule's stiffness factor: 1 + 0.075 (age - 60) / 10 (plans/studies/nomogram). */
+double kt_patient_age_factor(double age);
+
+#endif

@@ -1,0 +1,68 @@
+/* scene_write.c: an eye scene as YAML, every field explicit (%.17g: read back exactly). */
+#include "scene_write.h"
+
+#include <math.h>
+
+static const char *const ORDER_NAMES[] = {"amd", "metis", "constrained", "natural", "metis-last"};
+static const char *const REF_NAMES[] = {"loaded", "unloaded", "prestressed"};
+
+static void write_eye(FILE *f, const kt_eye *y)
+{
+    fprintf(f, "eye:\n");
+    fprintf(f, "  anterior_radius_steep: %.17g mm\n  anterior_radius_flat: %.17g mm\n", y->r_ant_steep, y->r_ant_flat);
+    fprintf(f, "  steep_axis: %.17g deg\n  posterior_radius: %.17g mm\n", y->steep_axis, y->r_post);
+    fprintf(f, "  central_thickness: %.17g mm\n  peripheral_thickness: %.17g mm\n", y->t_central, y->t_peripheral);
+    fprintf(f, "  white_to_white: %.17g mm\n  limbus_width: %.17g mm\n", y->wtw, y->limbus_width);
+    fprintf(f, "  sclera_thickness: %.17g mm\n  globe_radius: %.17g mm\n", y->sclera_thickness, y->globe_radius);
+    fprintf(f, "  extent: %.17g deg\n  optical_zone: %.17g mm\n", y->extent, y->optical_zone);
+    fprintf(f, "  fibres: {limbal_band: %.17g mm, limbal_density: %.17g}\n", y->fibre_band, y->fibre_density);
+    fprintf(f, "  mesh_size:\n    optical_zone: %.17g mm\n    incision: %.17g mm\n", y->h_optical, y->h_incision);
+    if (y->h_floor > 0) fprintf(f, "    incision_floor: %.17g mm\n", y->h_floor);
+    fprintf(f, "    cornea: %.17g mm\n    sclera: %.17g mm\n", y->h_cornea, y->h_sclera);
+    fprintf(f, "  incision_rings:\n");
+    for (int i = 0; i < y->nring; i++) {
+        const kt_ring *r = &y->ring[i];
+        fprintf(f, "    - name: %s\n      diameter: %.17g mm\n", r->name, r->diameter);
+        if (r->depth_fraction > 0) fprintf(f, "      depth_fraction: %.17g\n", r->depth_fraction);
+        else fprintf(f, "      depth: %.17g mm\n", r->depth);
+    }
+}
+
+int kt_scene_write_eye(FILE *f, const kt_scene *s, const char *header, kt_err *e)
+{
+    if (s->model != KT_MODEL_EYE) return kt_fail(e, KT_EINPUT, "scene '%s': only eye scenes are written", s->name);
+    if (header) fprintf(f, "# %s\n", header);
+    fprintf(f, "name: %s\nmodel: eye\norder: %d\n", s->name, s->order);
+    write_eye(f, &s->eye);
+    fprintf(f, "ordering:\n  method: %s\n", ORDER_NAMES[s->ordering - 1]);
+    if (s->ordering_set[0]) fprintf(f, "  last: %s\n", s->ordering_set);
+    if (s->ordering_halo >= 0) fprintf(f, "  halo: %d\n", s->ordering_halo);
+    if (!isnan(s->ordering_centre)) fprintf(f, "  centre: %.17g deg\n", s->ordering_centre);
+    if (!isnan(s->ordering_sector)) fprintf(f, "  sector: %.17g deg\n", s->ordering_sector);
+    fprintf(f, "materials:\n");
+    for (int i = 0; i < s->nmat; i++) {
+        const kt_region_mat *m = &s->mat[i];
+        if (m->fibre)
+            fprintf(f, "  %s: {model: fibre, E_inplane: %.17g MPa, E_inplane_2: %.17g MPa, G_transverse: %.17g MPa, nu: %.17g}\n",
+                    m->region, m->E1, m->E2, m->Gt, m->nu);
+        else
+            fprintf(f, "  %s: {model: isotropic, E: %.17g MPa, nu: %.17g}\n", m->region, m->E, m->nu);
+    }
+    fprintf(f, "loads:\n  reference: %s\n  reference_tolerance: %.17g mm\n  pressure:\n", REF_NAMES[s->reference],
+            s->reference_tol);
+    for (int i = 0; i < s->npressure; i++)
+        fprintf(f, "    - {surface: %s, value: %.17g MPa}\n", s->pressure[i].surface, s->pressure[i].p);
+    fprintf(f, "fixation:\n");
+    for (int i = 0; i < s->nfix; i++) {
+        const kt_fixation *x = &s->fix[i];
+        char comp[4];
+        int k = 0;
+        for (int c = 0; c < 3; c++)
+            if (x->mask & (1u << c)) comp[k++] = "xyz"[c];
+        comp[k] = '\0';
+        fprintf(f, "  - {surface: %s, components: %s, value: [%.17g mm, %.17g mm, %.17g mm]}\n", x->surface, comp,
+                x->value[0], x->value[1], x->value[2]);
+    }
+    if (ferror(f)) return kt_fail(e, KT_ERUN, "writing the scene '%s' failed", s->name);
+    return KT_OK;
+}

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# lriplan_errors.sh BUILD_DIR: bad patients and bad Pentacam maps exit 2 with one line
+# "file:line:col: expected ..." on stderr, before anything is meshed: the plan folder is not
+# even made. Usage errors exit 2 too.
+set -uo pipefail
+B=$(cd "$1" && pwd)
+cd "$(dirname "$0")/.."
+tmp=$(mktemp -d /tmp/kt-lriplan-err.XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+K='keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}'
+# name|patient text|expected stderr fragment
+cases=(
+"kflat|eye: OD\nage: 68\ncornea:\n  keratometry: {k_steep: 43 D, k_flat: 44 D, steep_axis: 90 deg}|p.yaml:4:40: cornea.keratometry.k_flat: expected at most k_steep"
+"axis200|eye: OD\nage: 68\ncornea:\n  keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 200 deg}|p.yaml:4:58: cornea.keratometry.steep_axis: expected"
+"age-1|eye: OD\nage: -1\ncornea: {$K}|p.yaml:2:6: patient.age: expected"
+"deep|eye: OD\nage: 68\ncornea: {$K, thickness_at_zone: 600 um}\nconstraints: {depth: 560 um}|p.yaml:4:22: constraints.depth: expected at most 90% of the pachymetry"
+"zone|eye: OD\nage: 68\ncornea: {$K}\nconstraints: {zone: 6.5 mm}|p.yaml:4:21: constraints.zone: expected a diameter outside the optical zone"
+"notpentacam|eye: OD\nage: 68\ncornea: {pentacam: {front: ../plans/eye.yaml}}|eye.yaml: expected a Pentacam map export"
+"truncated|eye: OD\nage: 68\ncornea: {pentacam: {front: short.csv}}|short.csv:104:1: expected 141 rows of the grid, the file ends after 100"
+)
+head -n 103 plans/patients/pentacam-front.csv > "$tmp/short.csv"
+for c in "${cases[@]}"; do
+    IFS='|' read -r name text want <<< "$c"
+    mkdir -p "$tmp/$name"
+    printf "$text\n" > "$tmp/$name/p.yaml"
+    cp "$tmp/short.csv" "$tmp/$name/"
+    mkdir -p "$tmp/plans" && cp plans/eye.yaml "$tmp/plans/"
+    rc=0
+    "$B/lri-plan" -q "$tmp/$name/p.yaml" -o "$tmp/$name/out" > "$tmp/out" 2> "$tmp/err" || rc=$?
+    if [ $rc -eq 2 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -qF -- "$want" "$tmp/err" && [ ! -e "$tmp/$name/out" ] \
+        && [ ! -s "$tmp/out" ]; then
+        echo "ok   $name: $(cat "$tmp/err")"
+    else
+        echo "FAIL $name: exit $rc, stderr '$(cat "$tmp/err")', want '$want'; out folder $([ -e "$tmp/$name/out" ] && echo made || echo absent)"
+        fails=$((fails + 1))
+    fi
+done
+for args in "" "-o $tmp/x" "$tmp/none.yaml" "--step 0 plans/patients/wtr-od.yaml -o $tmp/x" \
+    "--base $tmp/none.yaml plans/patients/wtr-od.yaml -o $tmp/x"; do
+    rc=0
+    "$B/lri-plan" $args > /dev/null 2> "$tmp/err" || rc=$?
+    if [ $rc -eq 2 ] && [ ! -e "$tmp/x" ]; then echo "ok   usage '$args': $(head -1 "$tmp/err")"
+    else echo "FAIL usage '$args': exit $rc"; fails=$((fails + 1)); fi
+done
+echo "lriplan_errors: $((7 + 5 - fails)) passed, $fails failed"
+[ $fails -eq 0 ]

@@ -1,0 +1,178 @@
+/* test_patient.c: patient files load with units, defaults and TABO sites mirrored per eye;
+ * bad patients are refused at file:line:col before anything else; the patient's scene carries
+ * the patient's values, is written as YAML and reads back to the same scene. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "kt_test.h"
+#include "patient.h"
+#include "scene_write.h"
+#include "eye.h"
+
+static char dir[64];
+
+static void write_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        perror(path);
+        exit(1);
+    }
+    fputs(text, f);
+    fclose(f);
+}
+
+static const char *OK_OD =
+    "name: 'Mr: X # 1'\n"
+    "eye: OD\n"
+    "age: 68\n"
+    "cornea:\n"
+    "  keratometry: {k_steep: 44.75 D, k_flat: 43.25 D, steep_axis: 95 deg}\n"
+    "  thickness_at_zone: 640 um\n"
+    "main_incision: {meridian: temporal, width: 2.4 mm}\n";
+
+static int load_text(const char *text, kt_patient *p, kt_err *e)
+{
+    char path[128];
+    snprintf(path, sizeof path, "%s/p.yaml", dir);
+    write_file(path, text);
+    memset(e, 0, sizeof *e);
+    return kt_patient_load(path, p, e);
+}
+
+static void test_ok(void)
+{
+    kt_patient p;
+    kt_err e;
+    int rc = load_text(OK_OD, &p, &e);
+    CHECK(rc == KT_OK, "OD patient: %s", e.msg);
+    CHECK(p.eye == KT_EYE_OD, "eye");
+    CHECK_NEAR(p.ant.r_steep, 337.5 / 44.75, 1e-12, "anterior steep radius");
+    CHECK_NEAR(p.ant.r_flat, 337.5 / 43.25, 1e-12, "anterior flat radius");
+    CHECK_NEAR(p.ant.axis, 95, 1e-12, "steep axis");
+    CHECK_NEAR(p.main_meridian, 180, 1e-12, "temporal is 180 deg in a right eye");
+    CHECK(p.main_simulate == 1 && p.main_kind == KT_MAIN_CLEAR_CORNEAL, "main incision defaults");
+    /* Defaults: IOP 15 mmHg; posterior 0.30 D against the rule about a 6.7 mm mean radius. */
+    CHECK_NEAR(p.iop, 15 * 133.322387415e-6, 1e-12, "default IOP");
+    CHECK(p.post.source == KT_SOURCE_DEFAULT, "posterior default");
+    double ks = kt_patient_post_k(p.post.r_steep), kf = kt_patient_post_k(p.post.r_flat);
+    CHECK_NEAR(kf - ks, 0.30, 1e-12, "default posterior cylinder");
+    CHECK_NEAR(0.5 * (ks + kf), -40.0 / 6.7, 1e-12, "default posterior mean power");
+    CHECK_NEAR(p.post.axis, 90, 0, "default posterior steep axis vertical");
+    CHECK_NEAR(p.depth_fraction, 0.9, 0, "default depth");
+    CHECK(p.target_kind == KT_TARGET_TOTAL, "default target: total corneal");
+
+    /* The left eye: temporal is 0 deg, nasal 180 deg; superior 90 in both. */
+    const char *os = "eye: OS\nage: 70\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 180 deg}}\n"
+                     "main_incision: {meridian: temporal, width: 2.2 mm, kind: limbal, sia: {magnitude: 0.4 D, axis: 0 deg}}\n"
+                     "target: {astigmatism: keratometric, residual: 0.25 D}\n"
+                     "constraints: {incisions: paired, max_arc: 60 deg, zone: 10 mm, depth: 550 um}\n"
+                     "iop: 2.4 kPa\n";
+    rc = load_text(os, &p, &e);
+    CHECK(rc == KT_OK, "OS patient: %s", e.msg);
+    CHECK_NEAR(p.main_meridian, 0, 0, "temporal is 0 deg in a left eye");
+    CHECK_NEAR(p.ant.axis, 0, 0, "axis 180 is axis 0");
+    CHECK(!p.main_simulate && fabs(p.main_sia - 0.4) < 1e-12, "surgeon's SIA");
+    CHECK(p.arcs == KT_ARCS_PAIRED && p.target_kind == KT_TARGET_KERATOMETRIC, "constraints");
+    CHECK_NEAR(p.depth, 0.55, 1e-12, "depth in um");
+    CHECK(p.depth_fraction == 0, "depth as a length, not a fraction");
+    CHECK_NEAR(p.iop, 0.0024, 1e-12, "iop in kPa");
+    CHECK_NEAR(kt_patient_site(KT_EYE_OD, "nasal"), 0, 0, "OD nasal");
+    CHECK_NEAR(kt_patient_site(KT_EYE_OS, "nasal"), 180, 0, "OS nasal");
+    CHECK_NEAR(kt_patient_site(KT_EYE_OD, "superotemporal"), 135, 0, "OD superotemporal");
+    CHECK_NEAR(kt_patient_site(KT_EYE_OS, "superotemporal"), 45, 0, "OS superotemporal");
+    CHECK(isnan(kt_patient_site(KT_EYE_OD, "north")), "unknown site");
+}
+
+/* Each bad patient: exit code 2 and the message's position and expectation. */
+static void test_bad(void)
+{
+    struct { const char *text, *want; } bad[] = {
+        {"eye: OD\nage: 68\ncornea:\n  keratometry: {k_steep: 43 D, k_flat: 44 D, steep_axis: 90 deg}\n",
+         "p.yaml:4:40: cornea.keratometry.k_flat: expected at most k_steep"},
+        {"eye: OD\nage: 68\ncornea:\n  keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 200 deg}\n",
+         "p.yaml:4:58: cornea.keratometry.steep_axis"},
+        {"eye: OD\nage: -1\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n",
+         "p.yaml:2:6: patient.age"},
+        {"eye: OD\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg},"
+         " thickness_at_zone: 600 um}\nconstraints: {depth: 560 um}\n",
+         "p.yaml:4:22: constraints.depth: expected at most 90% of the pachymetry at the zone (540 um)"},
+        {"eye: OD\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n"
+         "constraints: {zone: 6 mm}\n",
+         "p.yaml:4:21: constraints.zone: expected a diameter outside the optical zone (> 7 mm)"},
+        {"eye: OD\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n"
+         "constraints: {depth: 95 %}\n",
+         "p.yaml:4:22: constraints.depth: expected a percentage of the pachymetry in (0, 90]"},
+        {"eye: OU\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n",
+         "p.yaml:1:6: patient.eye"},
+        {"eye: OD\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n"
+         "main_incision: {meridian: north, width: 2.4 mm}\n",
+         "p.yaml:4:27: main_incision.meridian"},
+        {"eye: OD\nage: 68\ncornea: {pentacam: {front: nowhere.csv}}\n",
+         "p.yaml:3:28: cornea.pentacam.front: expected an existing, readable file"},
+        {"eye: OD\nage: 68\ncornea: {}\n", "p.yaml:3:9: cornea: expected exactly one of"},
+        {"eye: OD\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n",
+         "p.yaml:1:1: patient: expected key 'age'"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        kt_patient p;
+        kt_err e;
+        int rc = load_text(bad[i].text, &p, &e);
+        CHECK(rc == KT_EINPUT, "bad patient %zu accepted", i);
+        CHECK(strstr(e.msg, bad[i].want) != NULL, "bad patient %zu: '%s' lacks '%s'", i, e.msg, bad[i].want);
+    }
+}
+
+/* The patient's scene: the patient's cornea, the pachymetry at the zone reached through the
+ * peripheral thickness, the age rule on the cornea's moduli; written and read back equal. */
+static void test_scene(void)
+{
+    kt_scene base, s, back;
+    kt_err e = {0};
+    CHECK(kt_scene_load("plans/eye.yaml", &base, &e) == KT_OK, "base scene: %s", e.msg);
+    kt_patient p;
+    CHECK(load_text(OK_OD, &p, &e) == KT_OK, "patient: %s", e.msg);
+    memset(&e, 0, sizeof e);
+    int rc = kt_patient_scene(&p, &base, &s, &e);
+    CHECK(rc == KT_OK, "patient scene: %s", e.msg);
+    if (rc != KT_OK) return;
+    CHECK(strcmp(s.name, "Mr--X---1") == 0, "scene name '%s': a name the scene YAML holds", s.name);
+    CHECK_NEAR(s.eye.r_ant_steep, 337.5 / 44.75, 1e-12, "scene steep radius");
+    CHECK_NEAR(s.eye.steep_axis, 95, 0, "scene axis");
+    CHECK_NEAR(s.ordering_centre, 95, 0, "ordering centred on the steep meridian");
+    CHECK_NEAR(kt_eye_thickness(&s.eye, 10.5 / 2), 0.64, 1e-9, "pachymetry at the zone");
+    CHECK_NEAR(s.mat[0].E1, base.mat[0].E1 * (1 + 0.075 * 0.8), 1e-12, "age rule on the cornea (68 y)");
+    CHECK(s.eye.nring == 1 && fabs(s.eye.ring[0].diameter - 10.5) < 1e-12, "one ring at the zone");
+    char path[128];
+    snprintf(path, sizeof path, "%s/scene.yaml", dir);
+    FILE *f = fopen(path, "w");
+    CHECK(f && kt_scene_write_eye(f, &s, "test", &e) == KT_OK, "write: %s", e.msg);
+    if (f) fclose(f);
+    rc = kt_scene_load(path, &back, &e);
+    CHECK(rc == KT_OK, "written scene reads back: %s", e.msg);
+    if (rc != KT_OK) return;
+    CHECK(back.eye.r_ant_steep == s.eye.r_ant_steep && back.eye.r_post == s.eye.r_post &&
+              back.eye.t_peripheral == s.eye.t_peripheral && back.eye.h_floor == s.eye.h_floor,
+          "eye fields read back exactly");
+    CHECK(back.nmat == s.nmat && back.mat[0].Gt == s.mat[0].Gt && back.mat[2].E == s.mat[2].E, "materials read back");
+    CHECK(back.pressure[0].p == s.pressure[0].p && back.reference == s.reference, "loads read back");
+    CHECK(back.ordering_sector == s.ordering_sector && back.ordering_centre == s.ordering_centre &&
+              back.eye.floor_centre == s.eye.floor_centre,
+          "ordering read back");
+    CHECK(back.nfix == s.nfix && back.fix[0].mask == s.fix[0].mask, "fixation read back");
+}
+
+int main(void)
+{
+    snprintf(dir, sizeof dir, "/tmp/kt-patient-XXXXXX");
+    if (!mkdtemp(dir)) return 1;
+    test_ok();
+    test_bad();
+    test_scene();
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    if (system(cmd) != 0) return 1;
+    return kt_test_done("test_patient");
+}
