@@ -367,10 +367,10 @@ static int verify_planned(run *r, const kt_aug_run_opts *o, kt_err *e)
     if (kt_plan_fresh(&r->S, &r->plan, &r->prob, r->ufresh, &t, e)) return e->code;
     for (int i = 0; i < 3 * r->S.mesh.nn; i++) {
         if (r->outmask && !r->outmask[i / 3]) continue;
-        dmax = fmax(dmax, fabs(r->S.u[i] - r->ufresh[i]));
-        rmax = fmax(rmax, fabs(r->ufresh[i]));
+        dmax = kt_nanmax(dmax, fabs(r->S.u[i] - r->ufresh[i]));
+        rmax = kt_nanmax(rmax, fabs(r->ufresh[i]));
     }
-    r->S.row.verify_rel_diff = rmax > 0 ? dmax / rmax : dmax;
+    r->S.row.verify_rel_diff = rmax == 0 ? dmax : dmax / rmax;
     r->S.row.t_verify = 1e3 * t;
     if (!(r->S.row.verify_rel_diff <= o->aug.verify_tol))
         return kt_fail(e, KT_ERUN, "step %d: --verify: planned and a fresh factorization differ by "

@@ -65,6 +65,10 @@ static int stream(const kt_cutplan_opts *o, const kt_plan *p, kt_incise *c, cons
         kt_progress_update(&pr, st->work_done);
     }
     kt_step_free(&s);
+    if (rc == KT_OK && st->steps == 0)
+        rc = kt_fail(e, KT_EINPUT, "%s: the plan makes no step on %s (nothing to cut)", o->plan,
+                     o->mesh);
+    if (rc == KT_OK) rc = kt_edits_write_done(out.f, st->steps, e);
     if (rc == KT_OK) rc = kt_out_commit(&out, e);
     else kt_out_abort(&out);
     kt_progress_end(&pr);

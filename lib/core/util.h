@@ -62,6 +62,10 @@ void kt_path_relative(const char *file, const char *dir, char *out, size_t size)
 /* Make a directory (and parents) if it does not exist. */
 int kt_mkdir_p(const char *path, kt_err *e);
 
+/* The larger of a and b, NaN when either is NaN. fmax drops a NaN, so a maximum built with it
+ * can let a NaN field pass the tolerance check it feeds; build such maxima with this. */
+static inline double kt_nanmax(double a, double b) { return a > b || a != a ? a : b; }
+
 /* Parse a whole string as a double / int; 0 on success. */
 int kt_parse_double(const char *s, double *v);
 int kt_parse_int(const char *s, int *v);
