@@ -36,6 +36,8 @@ typedef struct run_ctx {
     unsigned char *mask; /* anterior nodes of the input mesh */
     unsigned char *post_mask; /* posterior corneal nodes (NULL: none) */
     int mesh_nn, mesh_ne, mesh_order;
+    unsigned long long mesh_hash, plan_hash; /* run.yaml's (RUN_DIR): checked in setup */
+    int has_plan_hash;
     kt_topo_scale scale, diff_scale;
     kt_cornea_n n;
     kt_plan *plan_in;    /* the plan read (NULL: no plan) */

@@ -124,7 +124,7 @@ static int get_double(kt_edits_reader *r, cursor *c, const char *what, double *v
 {
     char *t = next_tok(c);
     int col = t ? c->col : c->eol;
-    if (!t || kt_parse_double(t, v) != 0 || !isfinite(*v))
+    if (!t || kt_parse_number(t, v) != 0)
         return bad(r, col, e, "expected %s (a finite number)%s%s", what, t ? ", found " : "",
                    t ? t : "");
     return KT_OK;
