@@ -478,7 +478,10 @@ int kt_edits_next(kt_edits_reader *r, kt_step *s, kt_err *e)
     char *buf = NULL;
     size_t cap = 0;
     int rc = read_line(r, &buf, &cap, e);
-    if (rc == 0)
+    if (rc == 0 && r->last_step == 0)
+        bad(r, 0, e, "expected 'step 1', found the end of the stream (a header alone, cut short: "
+            "the writer stopped or the pipe broke)");
+    else if (rc == 0)
         bad(r, 0, e, "expected 'step %d' or 'done %d', found the end of the stream (cut short: "
             "the writer stopped or the pipe broke)", r->last_step + 1, r->last_step);
     if (rc <= 0) {

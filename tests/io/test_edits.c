@@ -164,7 +164,7 @@ static void test_end(void)
 {
     const char *H = "keratome-edits 1\nmesh m.msh 5 2\n";
     char buf[512];
-    expect_error(H, "t.edits:2:", "found the end of the stream (cut short");
+    expect_error(H, "t.edits:2:", "expected 'step 1', found the end of the stream (a header alone");
     snprintf(buf, sizeof buf, "%sstep 1\nforce 1 0 0 1\nend\nstep 2\nend\n", H);
     expect_error(buf, "t.edits:7:", "expected 'step 3' or 'done 2'");
     snprintf(buf, sizeof buf, "%sstep 1\nend\ndone 3\n", H);
