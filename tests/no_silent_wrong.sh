@@ -111,6 +111,12 @@ for k, f in want.items():
     assert os.path.samefile(got, os.path.join(d, f)), (k, r[k])
 EOF
 
+# a path longer than the header's 1023 bytes: refused, not cut to name another file
+L=$T/$(printf 'a%.0s' {1..250})/$(printf 'b%.0s' {1..250})/$(printf 'c%.0s' {1..250})/$(printf 'd%.0s' {1..250})
+mkdir -p "$L" && cp "$T/beam.msh" "$L/beam.msh"
+expect "a mesh path over 1023 bytes" 2 "expected a path of at most 1023 bytes" -- "$B/cutplan" -q plans/cut-beam-16.yaml "$L/beam.msh" -o "$T/long.edits"
+[ ! -e "$T/long.edits" ] && ok "long path: no edits written" || bad "long path: edits written"
+
 # ---- 2. one run per folder (a coarse eye, as tests/cutplan_eye.sh makes it)
 sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.6 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.3 mm/' \
     -e 's/^    cornea: [0-9.]* mm/    cornea: 0.8 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 2.5 mm/' \

@@ -406,6 +406,10 @@ int kt_curv_fit(const double *xyz, int n, int kind, int order, double zone_d, do
         }
         f->npts = np;
         f->rms = np ? sqrt(ss / np) : NAN;
+        if (!isfinite(f->rms) || !isfinite(f->az)) /* the iterations' stops pass NaN by */
+            rc = kt_fail(e, KT_ERUN, "the %s fit over the %.2f mm zone is not finite (rms %g): "
+                         "NaN or overflowed surface coordinates?", kind == KT_FIT_TORIC ? "toric" :
+                         "Zernike", zone_d, f->rms);
     }
     free(idx);
     return rc;
