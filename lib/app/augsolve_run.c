@@ -78,15 +78,16 @@ static void run_free(run *r)
     }
 }
 
-/* A file a run or its curvature writes: step-NNNN.vtk, surface-NNNN.vtk, axial-NNNN.png,
- * curvature.tsv, meridians.tsv, report.html, steps.pvd (augsolve(1), FILES). */
-static int run_file(const char *name)
+/* A file a run or its curvature writes: step-NNNN.vtk, surface-NNNN.vtk, axial-NNNN.png, and
+ * (was_run: the folder held a run) curvature.tsv, meridians.tsv, report.html, steps.pvd
+ * (augsolve(1), FILES). */
+static int run_file(const char *name, int was_run)
 {
     static const char *const whole[] = {"curvature.tsv", "meridians.tsv", "report.html",
                                         "steps.pvd"};
     static const char *const pre[] = {"step-", "surface-", "axial-"};
     static const char *const ext[] = {".vtk", ".vtk", ".png"};
-    for (size_t i = 0; i < sizeof whole / sizeof *whole; i++)
+    for (size_t i = 0; was_run && i < sizeof whole / sizeof *whole; i++)
         if (strcmp(name, whole[i]) == 0) return 1;
     for (int i = 0; i < 3; i++) {
         size_t np = strlen(pre[i]), n = strlen(name), d = 0;
@@ -101,14 +102,14 @@ static int run_file(const char *name)
 
 /* A run folder holds one run: the previous run's files go, so a shorter plan run into the
  * folder of a longer one leaves no step file a reader would take as part of it. */
-static int clear_run_dir(const char *dir, kt_err *e)
+static int clear_run_dir(const char *dir, int was_run, kt_err *e)
 {
     DIR *d = opendir(dir);
     if (!d) return kt_fail(e, KT_EINPUT, "%s: cannot open the run folder: %s", dir, strerror(errno));
     struct dirent *de;
     char path[PATH_MAX];
     while (e->code == KT_OK && (de = readdir(d)) != NULL) {
-        if (!run_file(de->d_name)) continue;
+        if (!run_file(de->d_name, was_run)) continue;
         snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
         if (unlink(path) != 0 && errno != ENOENT)
             kt_fail(e, KT_EINPUT, "%s: cannot remove a previous run's file: %s", path,
@@ -138,11 +139,14 @@ static int claim_run_dir(run *r, const char *dir, kt_err *e)
     }
     r->lock_fd = fd;
     r->locked = 1;
+    snprintf(path, sizeof path, "%s/step-0000.vtk", dir);
+    int was_run = access(path, F_OK) == 0; /* a run folder: its curvature's files go too */
     snprintf(path, sizeof path, "%s/run.yaml", dir);
+    was_run |= access(path, F_OK) == 0;
     unlink(path);
     snprintf(path, sizeof path, "%s/steps.tsv", dir);
     unlink(path);
-    return clear_run_dir(dir, e);
+    return clear_run_dir(dir, was_run, e);
 }
 
 static void abs_path(const char *p, char *out, size_t n)
