@@ -70,7 +70,7 @@ static int option(int c, const char *arg, kt_aug_run_opts *o)
     case O_SCENE: o->scene = arg; return 0;
     case O_METHOD: return kt_aug_parse_method(arg, &a->method) ? usage_error("bad --method", arg) : 0;
     case O_TOL:
-        return kt_parse_double(arg, &a->tol) || !(a->tol > 0 && a->tol < 1)
+        return kt_parse_number(arg, &a->tol) || !(a->tol > 0 && a->tol < 1)
                    ? usage_error("--tol expects a number in (0, 1)", arg) : 0;
     case O_RESTART: case O_PRECOND: case O_REFACTOR: case O_SYNC:
         return usage_error("--restart, --precond, --refactor and --refactor-sync were removed "
@@ -91,13 +91,13 @@ static int option(int c, const char *arg, kt_aug_run_opts *o)
         return 0;
     case O_VERIFY: a->verify = 1; return 0;
     case O_VTOL:
-        return kt_parse_double(arg, &a->verify_tol) || !(a->verify_tol > 0)
+        return kt_parse_number(arg, &a->verify_tol) || !(a->verify_tol > 0)
                    ? usage_error("--verify-tol expects a positive number", arg) : 0;
     case O_NOVTK: o->vtk = 0; return 0;
     case O_BINARY: o->binary = 1; return 0;
     case O_STEPS: o->steps = arg; return 0;
     case O_MAXRATIO:
-        return kt_parse_double(arg, &o->plan_max_ratio) || !(o->plan_max_ratio >= 0)
+        return kt_parse_number(arg, &o->plan_max_ratio) || !(o->plan_max_ratio >= 0)
                    ? usage_error("--plan-max-ratio expects a number >= 0", arg) : 0;
     }
     return usage_error("unknown or incomplete option", arg);

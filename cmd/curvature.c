@@ -22,7 +22,7 @@ static const char usage[] =
     "  --order N          Zernike order of the zone fit (2..12, default 6)\n"
     "  --map-zone MM      diameter of the axial power map, mm (default 8)\n"
     "  --map-order N      Zernike order of the map fit (2..12, default 8)\n"
-    "  --meridian DEG     incised meridian (default: the plan's first incision, else the\n"
+    "  --meridian DEG     incised meridian, 0 to 360 (default: the plan's first incision, else the\n"
     "                     steep meridian of step 0)\n"
     "  --plan PLAN.yaml   plan for the incised meridian and target (default: run.yaml's plan)\n"
     "  --mesh MESH.msh    input mesh (with the 'anterior' surface group) of the step files\n"
@@ -73,7 +73,7 @@ int main(int argc, char **argv)
     while ((c = getopt_long(argc, argv, "o:qh", lo, NULL)) != -1) {
         switch (c) {
         case O_ZONE:
-            if (kt_parse_double(optarg, &o.zone) || !(o.zone >= 1 && o.zone <= 10))
+            if (kt_parse_number(optarg, &o.zone) || !(o.zone >= 1 && o.zone <= 10))
                 return bad("--zone %s: expected a diameter in mm, 1 to 10 (3, 5 or 7 usual)", optarg);
             break;
         case O_FIT:
@@ -86,7 +86,7 @@ int main(int argc, char **argv)
                 return bad("--order %s: expected an integer 2..12", optarg);
             break;
         case O_MAPZONE:
-            if (kt_parse_double(optarg, &o.map_zone) || !(o.map_zone >= 1 && o.map_zone <= 14))
+            if (kt_parse_number(optarg, &o.map_zone) || !(o.map_zone >= 1 && o.map_zone <= 14))
                 return bad("--map-zone %s: expected a diameter in mm, 1 to 14", optarg);
             break;
         case O_MAPORDER:
@@ -94,8 +94,8 @@ int main(int argc, char **argv)
                 return bad("--map-order %s: expected an integer 2..12", optarg);
             break;
         case O_MERIDIAN:
-            if (kt_parse_double(optarg, &o.meridian) || !isfinite(o.meridian))
-                return bad("--meridian %s: expected an angle in degrees", optarg);
+            if (kt_parse_number(optarg, &o.meridian) || !(o.meridian >= 0 && o.meridian < 360))
+                return bad("--meridian %s: expected an angle in [0, 360) deg (as a plan's meridian)", optarg);
             break;
         case O_PLAN: o.plan = optarg; break;
         case O_MESH: o.mesh = optarg; break;

@@ -50,7 +50,7 @@ int main(int argc, char **argv)
         double v;
         if (c == 'h') { fputs(usage, stdout); return 0; }
         if (c == '?') { fputs(usage, stderr); return KT_EINPUT; }
-        if (kt_parse_double(optarg, &v) || !isfinite(v))
+        if (kt_parse_number(optarg, &v) || !isfinite(v))
             return bad(argv[optind - 2], optarg, "a number");
         switch (c) {
         case O_KS: q.k_steep = v; break;

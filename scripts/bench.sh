@@ -722,7 +722,11 @@ scale_eye() {
 }
 
 # truncate_edits IN OUT N: the header and the first N steps
-truncate_edits() { awk -v n="$3" '/^step / && $2 + 0 > n { exit } { print }' "$1" >"$2"; }
+# the first N steps of a stream, ended by its 'done' record (keratome-edits(5))
+truncate_edits() {
+    awk -v n="$3" '/^step / { s = $2 + 0; if (s > n) exit } /^done / { exit } { print }
+                   END { print "done " (s > n ? n : s) }' "$1" >"$2"
+}
 
 # trade_run NAME MESH EDITS SCENE [augsolve options]: augsolve with VTKs and --verify (never
 # failing on it), then curvature. Appends one row to $TR.

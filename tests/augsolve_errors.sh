@@ -70,7 +70,7 @@ head -n 12 "$T/cut.edits" | grep -v '^end' >"$T/e4"
 check "truncated stream" 2 "found the end of the stream" "$T/r4" -- "$B/augsolve" "$T/beam.msh" "$T/e4" -o "$T/r4" -q
 { printf 'keratome-edits 1\nscene %s\nmesh x.msh 5 5\n' "$S"; } >"$T/e5"
 check "edits for another mesh" 2 "expected the $NN nodes" "$T/r5" -- "$B/augsolve" "$T/beam.msh" "$T/e5" -o "$T/r5" -q
-{ hdr; printf 'step 1\ndup 1 %d 1 %d\nend\n' $((NN + 1)) "$NE"; } >"$T/e6"
+{ hdr; printf 'step 1\ndup 1 %d 1 %d\nend\ndone 1\n' $((NN + 1)) "$NE"; } >"$T/e6"
 check "tet without that node" 2 "e6:5:[0-9]*: expected tets that hold node 1 (.*does not hold that node" "$T/r6" -- "$B/augsolve" "$T/beam.msh" "$T/e6" -o "$T/r6" -q
 { printf 'keratome-edits 1\nmesh %s %s %s\n' "$T/beam.msh" "$NN" "$NE"; } >"$T/e7"
 check "no scene" 2 "names no scene" "$T/r7" -- "$B/augsolve" "$T/beam.msh" "$T/e7" -o "$T/r7" -q
@@ -87,14 +87,14 @@ done
 
 # The planned method (default) checks the whole stream before it factors: a bad tet in the
 # last step is reported with its line, nothing is written.
-{ sed '/^end/q' "$T/cut.edits"; printf 'step 2\ndup 1 %d 1 %d\nend\n' "$(grep -c '^dup' <(sed '/^end/q' "$T/cut.edits") | awk -v n="$NN" '{print n + $1 + 1}')" "$NE"; } >"$T/e11"
+{ sed '/^end/q' "$T/cut.edits"; printf 'step 2\ndup 1 %d 1 %d\nend\ndone 2\n' "$(grep -c '^dup' <(sed '/^end/q' "$T/cut.edits") | awk -v n="$NN" '{print n + $1 + 1}')" "$NE"; } >"$T/e11"
 line=$(grep -n '^dup 1 ' "$T/e11" | tail -1 | cut -d: -f1)
 check "planned: bad tet in step 2 found before factoring" 2 "e11:$line:[0-9]*: expected tets that hold node 1" "$T/r11" -- "$B/augsolve" "$T/beam.msh" "$T/e11" -o "$T/r11" -q
 grep -q "planned: .* factor" "$T/err" && { echo "FAIL planned: factored before the check"; fail=1; }
 check "planned: bad --steps" 2 "expected steps in 0" "$T/r12" -- "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/r12" --steps 1,99 -q
 
 # A fix edit changes the intact block: the planned method falls back loudly, verified.
-{ cat "$T/cut.edits"; printf 'step %d\nfix 1 x 0.001\nend\n' $((steps + 1)); } >"$T/e13"
+{ grep -v '^done' "$T/cut.edits"; printf 'step %d\nfix 1 x 0.001\nend\ndone %d\n' $((steps + 1)) $((steps + 1)); } >"$T/e13"
 check "planned: fix edit falls back to augmented" 0 "e13:[0-9]*: step $((steps + 1)) fixes node 1.*falling back to --method augmented" "$T/r13" -- "$B/augsolve" "$T/beam.msh" "$T/e13" -o "$T/r13" --verify --no-vtk -q
 grep -q '^method: augmented' "$T/r13/run.yaml" && grep -q '^fallback: ' "$T/r13/run.yaml" ||
     { echo "FAIL fallback not recorded in run.yaml"; fail=1; }

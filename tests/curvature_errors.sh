@@ -44,6 +44,20 @@ expect_fail "steps.tsv lists a step without its VTK" "steps.tsv:6:1: step 4" "$t
 mk short; sed -i 's/^steps: 3$/steps: 4/' "$tmp/short/run.yaml"
 expect_fail "run.yaml declares more steps" "step-0004.vtk: missing" "$tmp/short" -- "$tmp/short"
 
+# A run folder holds one run (issue 26, item 2): a step file beyond run.yaml's steps is another
+# run's; a mesh or a plan other than the run's is refused.
+mk extra; cp "$tmp/extra/step-0003.vtk" "$tmp/extra/step-0004.vtk"
+expect_fail "a step file beyond run.yaml's steps" "step-0004.vtk: not a step of this run (run.yaml says steps: 3)" "$tmp/extra" -- "$tmp/extra"
+mk rehash; sed -i 's/^mesh_hash: "\(.\)/mesh_hash: "f/; s/^mesh_hash: "ff/mesh_hash: "0f/' "$tmp/rehash/run.yaml"
+expect_fail "a mesh other than the run's" "eye.msh: not the mesh this run was solved on" "$tmp/rehash" -- "$tmp/rehash"
+mk nohash; sed -i '/^mesh_hash:/d' "$tmp/nohash/run.yaml"
+expect_fail "run.yaml without mesh_hash" "mesh_hash" "$tmp/nohash" -- "$tmp/nohash"
+mk nosteps; sed -i '/^steps:/d' "$tmp/nosteps/run.yaml"
+expect_fail "run.yaml without steps" "steps" "$tmp/nosteps" -- "$tmp/nosteps"
+mk otherplan; cp plans/lri-paired-60.yaml "$tmp/otherplan/plan.yaml"; cp plans/eye.yaml "$tmp/otherplan/"
+printf 'plan: "plan.yaml"\nplan_hash: "0123456789abcdef"\n' >> "$tmp/otherplan/run.yaml"
+expect_fail "a plan other than the run's" "plan.yaml: not the plan this run was made from" "$tmp/otherplan" -- "$tmp/otherplan"
+
 mk nodisp --drop displacement
 expect_fail "VTK without displacement" "step-0001.vtk: expected POINT_DATA field \"displacement\"" "$tmp/nodisp" -- "$tmp/nodisp"
 expect_fail "same, -o elsewhere" "displacement" "$tmp/nodisp" -- -o "$tmp/out" "$tmp/nodisp"

@@ -91,7 +91,7 @@ rm -f "$tmp/snapped.msh"
 if ! "$bin" -q "$tmp/snap.yaml" "$tmp/beam.msh" -o "$tmp/snap.edits" --mesh-out "$tmp/snapped.msh"; then
     echo "FAILED: snapped cut"; fail=1
 fi
-if ! grep -q "^mesh $tmp/snapped.msh 400 1440" "$tmp/snap.edits"; then echo "FAILED: header names the snapped mesh"; fail=1; fi
+if ! grep -q "^mesh \"$tmp/snapped.msh\" 400 1440" "$tmp/snap.edits"; then echo "FAILED: header names the snapped mesh"; fail=1; fi
 # usage
 "$bin" > /dev/null 2>&1; [ $? -eq 2 ] || { echo "FAILED: no arguments should exit 2"; fail=1; }
 "$bin" "$tmp/snap.yaml" "$tmp/beam.msh" > /dev/null 2>&1; [ $? -eq 2 ] || { echo "FAILED: no -o should exit 2"; fail=1; }

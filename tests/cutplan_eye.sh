@@ -46,8 +46,8 @@ lines = [l.split() for l in open(f"{tmp}/lri.edits")]
 nhead = next(i for i, l in enumerate(lines) if l and l[0] == "step")
 head = {l[0]: l for l in lines[1:nhead]}
 assert "hash" in head and len(head["hash"][1]) == 16, head
-assert head["plan"][1] == f"{tmp}/plan.yaml" or head["plan"][1].endswith("/plan.yaml"), head["plan"]
-assert head["scene"][1].startswith("/") and head["scene"][1].endswith("/eye.yaml"), head["scene"]
+assert head["plan"][1] == f'"{tmp}/plan.yaml"' or head["plan"][1].endswith('/plan.yaml"'), head["plan"]
+assert head["scene"][1].startswith('"/') and head["scene"][1].endswith('/eye.yaml"'), head["scene"]
 nn0 = int(head["mesh"][-2])
 assert nn0 == len(m.points), "header node count"
 origin = {}

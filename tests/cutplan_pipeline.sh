@@ -31,7 +31,8 @@ nhead = next(i for i, l in enumerate(lines) if l[0] == "mesh") + 1
 head = {l[0]: l for l in lines[1:nhead]}
 assert len(head["hash"]) == 2 and len(head["hash"][1]) == 16, head.get("hash")
 assert int(head["mesh"][-2]) == len(pts) and int(head["mesh"][-1]) == len(tets), head["mesh"]
-assert head["scene"][1].startswith("/") and head["plan"][1].startswith("/"), "absolute paths"
+assert head["scene"][1].startswith('"/') and head["plan"][1].startswith('"/'), "absolute paths, quoted"
+assert lines[-1] == ["done", str(sum(l[0] == "step" for l in lines))], lines[-1]
 nn = len(pts)
 steps, dups, forces, fixes = 0, [], {}, []
 cur = tets.copy()

@@ -2,6 +2,7 @@
  * per step, steps.tsv and run.yaml (all written atomically). */
 #define _XOPEN_SOURCE 700
 #define _DEFAULT_SOURCE /* flock */
+#include <dirent.h>
 #include <fcntl.h>
 #include <sys/file.h>
 #include <errno.h>
@@ -49,6 +50,8 @@ typedef struct run {
     kt_out tsv;
     int tsv_open;
     char scene_path[PATH_MAX];
+    unsigned long long plan_hash; /* the header's plan file as it was when the run started */
+    int has_plan_hash;
     int quiet;
     int locked, lock_fd;    /* the run folder's lock (claim_run_dir) */
     char lock_path[PATH_MAX];
@@ -76,11 +79,52 @@ static void run_free(run *r)
     }
 }
 
+/* A file a run or its curvature writes: step-NNNN.vtk, surface-NNNN.vtk, axial-NNNN.png, and
+ * (was_run: the folder held a run) curvature.tsv, meridians.tsv, report.html, steps.pvd
+ * (augsolve(1), FILES). */
+static int run_file(const char *name, int was_run)
+{
+    static const char *const whole[] = {"curvature.tsv", "meridians.tsv", "report.html",
+                                        "steps.pvd"};
+    static const char *const pre[] = {"step-", "surface-", "axial-"};
+    static const char *const ext[] = {".vtk", ".vtk", ".png"};
+    for (size_t i = 0; was_run && i < sizeof whole / sizeof *whole; i++)
+        if (strcmp(name, whole[i]) == 0) return 1;
+    for (int i = 0; i < 3; i++) {
+        size_t np = strlen(pre[i]), n = strlen(name), d = 0;
+        if (strncmp(name, pre[i], np) != 0 || n < np + 4 || strcmp(name + n - 4, ext[i]) != 0)
+            continue;
+        for (size_t k = np; k < n - 4; k++, d++)
+            if (name[k] < '0' || name[k] > '9') d = 99;
+        if (d >= 4 && d < 99) return 1;
+    }
+    return 0;
+}
+
+/* A run folder holds one run: the previous run's files go, so a shorter plan run into the
+ * folder of a longer one leaves no step file a reader would take as part of it. */
+static int clear_run_dir(const char *dir, int was_run, kt_err *e)
+{
+    DIR *d = opendir(dir);
+    if (!d) return kt_fail(e, KT_EINPUT, "%s: cannot open the run folder: %s", dir, strerror(errno));
+    struct dirent *de;
+    char path[PATH_MAX];
+    while (e->code == KT_OK && (de = readdir(d)) != NULL) {
+        if (!run_file(de->d_name, was_run)) continue;
+        snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
+        if (unlink(path) != 0 && errno != ENOENT)
+            kt_fail(e, KT_EINPUT, "%s: cannot remove a previous run's file: %s", path,
+                    strerror(errno));
+    }
+    closedir(d);
+    return e->code;
+}
+
 /* Claim the run folder: an exclusive lock on <dir>/.augsolve.lock (the kernel drops it when a
  * run ends or is killed), so a second augsolve into the same folder is refused instead of
  * mixing its steps with the first's; then the previous result's run.yaml and steps.tsv go, so
- * a re-run that fails or is killed leaves no run.yaml and no reader takes its mix of old and
- * new step files as a result. */
+ * a re-run that fails or is killed leaves no run.yaml, and with them every step and
+ * curvature file of the previous run (clear_run_dir). */
 static int claim_run_dir(run *r, const char *dir, kt_err *e)
 {
     char path[PATH_MAX];
@@ -96,11 +140,14 @@ static int claim_run_dir(run *r, const char *dir, kt_err *e)
     }
     r->lock_fd = fd;
     r->locked = 1;
+    snprintf(path, sizeof path, "%s/step-0000.vtk", dir);
+    int was_run = access(path, F_OK) == 0; /* a run folder: its curvature's files go too */
     snprintf(path, sizeof path, "%s/run.yaml", dir);
+    was_run |= access(path, F_OK) == 0;
     unlink(path);
     snprintf(path, sizeof path, "%s/steps.tsv", dir);
     unlink(path);
-    return KT_OK;
+    return clear_run_dir(dir, was_run, e);
 }
 
 static void abs_path(const char *p, char *out, size_t n)
@@ -122,6 +169,8 @@ static int open_edits(run *r, const char *path, const char *mesh, kt_err *e)
         return kt_fail(e, KT_EINPUT, "%s: the edits apply to a mesh of %d nodes and %d tets, "
                        "expected the %d nodes and %d tets of the mesh given", path, r->rd.h.nn,
                        r->rd.h.ne, r->mesh.nn, r->mesh.ne);
+    kt_err ignored = {0}; /* a plan that cannot be read gets no hash (curvature needs it anyway) */
+    r->has_plan_hash = r->rd.h.plan[0] && kt_fnv1a_file(r->rd.h.plan, &r->plan_hash, &ignored) == KT_OK;
     uint64_t mine = kt_mesh_hash(&r->mesh);
     if (r->rd.h.has_hash && r->rd.h.hash != mine)
         return kt_fail(e, KT_EINPUT, "%s: the edits were made for another mesh: header hash "
@@ -221,13 +270,17 @@ static void progress(const kt_aug_row *w, int quiet)
             tty ? "   " : "\n");
 }
 
-/* A YAML double-quoted scalar: paths may hold ':' '#' or be "-", which plain scalars can't. */
+/* A YAML double-quoted scalar: paths may hold ':' '#' or be "-", which plain scalars can't;
+ * control bytes (a newline in a path) are escaped, which YAML would otherwise fold. */
 static void yaml_str(FILE *f, const char *key, const char *v)
 {
     fprintf(f, "%s: \"", key);
-    for (; *v; v++) {
-        if (*v == '"' || *v == '\\') fputc('\\', f);
-        fputc(*v, f);
+    for (const unsigned char *p = (const unsigned char *)v; *p; p++) {
+        if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p);
+        else if (*p == '\n') fputs("\\n", f);
+        else if (*p == '\t') fputs("\\t", f);
+        else if (*p < 0x20 || *p == 0x7f) fprintf(f, "\\x%02x", *p);
+        else fputc(*p, f);
     }
     fputs("\"\n", f);
 }
@@ -251,6 +304,10 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     yaml_str(out.f, "edits", buf);
     fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(o->aug.method),
             r->mesh.order, steps);
+    /* what curvature cross-checks: the mesh's content hash and node count, the plan's bytes */
+    fprintf(out.f, "mesh_hash: \"%016" PRIx64 "\"\nmesh_nodes: %d\n", kt_mesh_hash(&r->mesh),
+            r->mesh.nn);
+    if (r->has_plan_hash) fprintf(out.f, "plan_hash: \"%016llx\"\n", r->plan_hash);
     static const char *const ORD[] = {"natural", "amd", "metis"};
     fprintf(out.f, "tol: %g\nordering: %s\nfactor: %s\n", o->aug.tol, ORD[o->aug.ordering],
             o->aug.factor == KT_AUG_FACTOR_SIMPLICIAL ? "simplicial" : "supernodal");
@@ -295,10 +352,12 @@ static int parse_steps(run *r, const char *list, int nsteps, kt_err *e)
     const char *p = list;
     while (*p) {
         char *end;
+        if (!(*p >= '0' && *p <= '9')) break; /* strtol would take blanks and signs */
         long a = strtol(p, &end, 10), b = a;
         if (end == p) break;
         p = end;
         if (*p == '-') {
+            if (!(p[1] >= '0' && p[1] <= '9')) break;
             b = strtol(p + 1, &end, 10);
             if (end == p + 1) break;
             p = end;
@@ -371,10 +430,10 @@ static int verify_planned(run *r, const kt_aug_run_opts *o, kt_err *e)
     if (kt_plan_fresh(&r->S, &r->plan, &r->prob, r->ufresh, &t, e)) return e->code;
     for (int i = 0; i < 3 * r->S.mesh.nn; i++) {
         if (r->outmask && !r->outmask[i / 3]) continue;
-        dmax = fmax(dmax, fabs(r->S.u[i] - r->ufresh[i]));
-        rmax = fmax(rmax, fabs(r->ufresh[i]));
+        dmax = kt_nanmax(dmax, fabs(r->S.u[i] - r->ufresh[i]));
+        rmax = kt_nanmax(rmax, fabs(r->ufresh[i]));
     }
-    r->S.row.verify_rel_diff = rmax > 0 ? dmax / rmax : dmax;
+    r->S.row.verify_rel_diff = rmax == 0 ? dmax : dmax / rmax;
     r->S.row.t_verify = 1e3 * t;
     if (!(r->S.row.verify_rel_diff <= o->aug.verify_tol))
         return kt_fail(e, KT_ERUN, "step %d: --verify: planned and a fresh factorization differ by "

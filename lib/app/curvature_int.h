@@ -37,6 +37,8 @@ typedef struct run_ctx {
     unsigned char *mask; /* anterior nodes of the input mesh */
     unsigned char *post_mask; /* posterior corneal nodes (NULL: none) */
     int mesh_nn, mesh_ne, mesh_order;
+    unsigned long long mesh_hash, plan_hash; /* run.yaml's (RUN_DIR): checked in setup */
+    int has_plan_hash;
     kt_topo_scale scale, diff_scale;
     kt_cornea_n n;
     kt_plan *plan_in;    /* the plan read (NULL: no plan) */
@@ -50,7 +52,7 @@ typedef struct run_ctx {
     step_res *res;
     kt_topo_scale abs_scale; /* the absolute scale (the maps' when not --scale auto) */
     kt_topo_scale rel_scale; /* the relative scale over this run's powers (auto_maps) */
-    unsigned long long mesh_hash; /* kt_mesh_hash of the mesh read */
+    unsigned long long mesh_hash_read; /* kt_mesh_hash of the mesh read (the report's provenance) */
     int nfile;
     char **file;         /* names written into tmpdir */
 } run_ctx;

@@ -377,7 +377,7 @@ static int prov_rows(const run_ctx *c, char (*rows)[ROWLEN], const char **ptr)
     if (p && p->type == YAML_MAPPING_NODE) {
         const char *v;
         char got[32];
-        snprintf(got, sizeof got, "%016llx", c->mesh_hash);
+        snprintf(got, sizeof got, "%016llx", c->mesh_hash_read);
         v = scalar(&y, p, "mesh_hash");
         snprintf(rows[n++], ROWLEN, "mesh hash (run.yaml)");
         snprintf(rows[n++], ROWLEN, "%s: %s", v ? v : "-",

@@ -65,7 +65,25 @@ double kt_curvrun_axis_out(double a, int decimals)
 
 /* ---------------------------------------------------------------- the run folder */
 
-/* run.yaml: mesh (required), plan (optional), steps (optional: the last step number). */
+/* A 16-hex-digit hash from run.yaml (a quoted string). */
+static int yml_hash(kt_yml *y, yaml_node_t *root, const char *key, int required,
+                    unsigned long long *v, int *has, kt_err *e)
+{
+    char buf[64], *end;
+    yaml_node_t *n = required ? kt_yml_require(y, root, key, "run.yaml", e) : kt_yml_get(y, root, key);
+    *has = 0;
+    if (!n) return e->code;
+    if (kt_yml_string(y, n, key, buf, sizeof buf, e)) return e->code;
+    errno = 0;
+    *v = strtoull(buf, &end, 16);
+    if (strlen(buf) != 16 || *end || errno)
+        return kt_yml_fail(y, n, e, "expected %s as 16 hex digits, found '%s'", key, buf);
+    *has = 1;
+    return KT_OK;
+}
+
+/* run.yaml: mesh, steps (the last step number) and mesh_hash (required), plan and plan_hash
+ * (optional): what the run is, checked against what is read (setup). */
 static int read_run_yaml(run_ctx *c, int *declared, kt_err *e)
 {
     char path[PATHMAX], buf[PATHMAX];
@@ -82,7 +100,11 @@ static int read_run_yaml(run_ctx *c, int *declared, kt_err *e)
         else rc = resolve(c->plan, c->o->run_dir, buf, e);
     }
     *declared = -1;
+    if (rc == KT_OK && !kt_yml_require(&y, root, "steps", "run.yaml", e)) rc = e->code;
     if (rc == KT_OK) rc = kt_yml_key_int(&y, root, "run.yaml", "steps", 0, 1000000, declared, e);
+    int has;
+    if (rc == KT_OK) rc = yml_hash(&y, root, "mesh_hash", 1, &c->mesh_hash, &has, e);
+    if (rc == KT_OK) rc = yml_hash(&y, root, "plan_hash", 0, &c->plan_hash, &c->has_plan_hash, e);
     kt_yml_free(&y);
     return rc;
 }
@@ -151,11 +173,16 @@ static int list_steps(run_ctx *c, int declared, kt_err *e)
         return e->code;
     }
     qsort(num, n, sizeof(int), cmp_int);
-    if (n == 0) rc = kt_fail(e, KT_EINPUT, "%s: no step-NNNN.vtk files (expected an augsolve run folder)", dir);
-    for (int i = 0; rc == KT_OK && i < n; i++)
-        if (num[i] != i) rc = kt_fail(e, KT_EINPUT, "%s/step-%04d.vtk: missing (steps must be numbered 0, 1, 2, ... without gaps)", dir, i);
-    if (rc == KT_OK && declared >= 0 && n - 1 < declared)
-        rc = kt_fail(e, KT_EINPUT, "%s/step-%04d.vtk: missing (run.yaml says steps: %d)", dir, n, declared);
+    /* exactly the steps run.yaml lists: one more is another run's (or a mix), one fewer a
+     * run cut short */
+    if (n > 0 && num[n - 1] > declared)
+        rc = kt_fail(e, KT_EINPUT, "%s/step-%04d.vtk: not a step of this run (run.yaml says "
+                     "steps: %d): a previous run's file? remove it, or run augsolve again",
+                     dir, num[n - 1], declared);
+    for (int i = 0; rc == KT_OK && i <= declared; i++)
+        if (i >= n || num[i] != i)
+            rc = kt_fail(e, KT_EINPUT, "%s/step-%04d.vtk: missing (run.yaml says steps: %d, "
+                         "numbered 0, 1, 2, ... without gaps)", dir, i, declared);
     if (rc == KT_OK) rc = check_steps_tsv(dir, num, n, e);
     if (rc == KT_OK) {
         c->vtk = kt_calloc(n, sizeof(char *), e);
@@ -350,6 +377,11 @@ static int do_step(run_ctx *c, int step, kt_err *e)
     int rc = kt_curv_extract(&v, c->vtk[step], c->mask, c->mesh_nn, &s, e);
     if (rc == KT_OK) rc = posterior(c, step, &v, e);
     if (rc == KT_OK && o->report) rc = report_inputs(c, step, &v, e);
+    /* a step of this mesh: its tets, and step 0 its nodes (later steps add duplicates) */
+    if (rc == KT_OK && (v.ncell != c->mesh_ne || (step == 0 ? v.nn != c->mesh_nn : v.nn < c->mesh_nn)))
+        rc = kt_fail(e, KT_EINPUT, "%s: %d points and %d cells, expected %s%d points and %d "
+                     "tets (the mesh %s): a step of another mesh", c->vtk[step], v.nn, v.ncell,
+                     step ? "at least " : "", c->mesh_nn, c->mesh_ne, c->mesh);
     kt_vtk_free(&v);
     if (rc != KT_OK) {
         if (s.xyz) kt_surf_free(&s);
@@ -491,13 +523,27 @@ static int setup(run_ctx *c, kt_err *e)
     for (int i = 0; i < c->nstep; i++) /* every step file is there before any work starts */
         if (access(c->vtk[i], R_OK) != 0)
             return kt_fail(e, KT_EINPUT, "%s: cannot read the step file: %s", c->vtk[i], strerror(errno));
+    if (c->has_plan_hash && c->plan[0]) {
+        unsigned long long h;
+        if (kt_fnv1a_file(c->plan, &h, e)) return e->code;
+        if (h != c->plan_hash)
+            return kt_fail(e, KT_EINPUT, "%s: not the plan this run was made from (its bytes hash "
+                           "to %016llx, run.yaml's plan_hash is %016llx): the plan changed since "
+                           "the run, or --plan names another", c->plan, h, c->plan_hash);
+    }
     if (c->plan[0] && read_plan(c, e)) return e->code;
     if (number_steps(c, e) || select_step(c, e)) return e->code;
 
     kt_mesh m;
     if (kt_msh_read(c->mesh, &m, e) != KT_OK) return e->code;
     c->mesh_nn = m.nn, c->mesh_ne = m.ne, c->mesh_order = m.order;
-    c->mesh_hash = kt_mesh_hash(&m);
+    c->mesh_hash_read = kt_mesh_hash(&m);
+    if (o->run_dir && c->mesh_hash_read != c->mesh_hash) {
+        kt_mesh_free(&m);
+        return kt_fail(e, KT_EINPUT, "%s: not the mesh this run was solved on (it hashes to "
+                       "%016llx, run.yaml's mesh_hash is %016llx)", c->mesh, c->mesh_hash_read,
+                       c->mesh_hash);
+    }
     int rc = kt_curv_anterior_mask(&m, c->mesh, &c->mask, e);
     if (rc == KT_OK) rc = kt_curv_posterior_mask(&m, &c->post_mask, e);
     kt_mesh_free(&m);

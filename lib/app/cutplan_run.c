@@ -11,15 +11,18 @@
 
 #include "msh.h"
 
-/* The absolute path of an existing file ("-" and failures give the path as it is). */
-static void abs_path(const char *path, char *buf, size_t size)
+/* The absolute path of an existing file ("-" and failures give the path as it is); one that
+ * does not fit the header's 1023 bytes is refused (cut, it would name another file). */
+static int abs_path(const char *path, char *buf, size_t size, kt_err *e)
 {
     char tmp[PATH_MAX];
     const char *src = strcmp(path, "-") != 0 && realpath(path, tmp) ? tmp : path;
     size_t n = strlen(src);
-    if (n >= size) n = size - 1; /* header paths are limited to 1023 bytes */
-    memcpy(buf, src, n);
-    buf[n] = '\0';
+    if (n >= size)
+        return kt_fail(e, KT_EINPUT, "expected a path of at most %zu bytes for the edits header "
+                       "(keratome-edits(5)), found %zu: %s", size - 1, n, path);
+    memcpy(buf, src, n + 1);
+    return KT_OK;
 }
 
 /* Write the snapped mesh the edits apply to; snapping without a place for it is an error. */
@@ -41,9 +44,10 @@ static int stream(const kt_cutplan_opts *o, const kt_plan *p, kt_incise *c, cons
 {
     kt_edits_header h;
     memset(&h, 0, sizeof h);
-    abs_path(p->scene_path, h.scene, sizeof h.scene);
-    if (strcmp(p->path, "-") != 0) abs_path(p->path, h.plan, sizeof h.plan);
-    abs_path(o->mesh_out ? o->mesh_out : o->mesh, h.mesh, sizeof h.mesh);
+    if (abs_path(p->scene_path, h.scene, sizeof h.scene, e) ||
+        (strcmp(p->path, "-") != 0 && abs_path(p->path, h.plan, sizeof h.plan, e)) ||
+        abs_path(o->mesh_out ? o->mesh_out : o->mesh, h.mesh, sizeof h.mesh, e))
+        return e->code;
     h.nn = m->nn;
     h.ne = m->ne;
     h.hash = kt_mesh_hash(m); /* after snapping: the mesh the edits apply to */
@@ -65,6 +69,10 @@ static int stream(const kt_cutplan_opts *o, const kt_plan *p, kt_incise *c, cons
         kt_progress_update(&pr, st->work_done);
     }
     kt_step_free(&s);
+    if (rc == KT_OK && st->steps == 0)
+        rc = kt_fail(e, KT_EINPUT, "%s: the plan makes no step on %s (nothing to cut)", o->plan,
+                     o->mesh);
+    if (rc == KT_OK) rc = kt_edits_write_done(out.f, st->steps, e);
     if (rc == KT_OK) rc = kt_out_commit(&out, e);
     else kt_out_abort(&out);
     kt_progress_end(&pr);

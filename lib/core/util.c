@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -243,12 +244,50 @@ int kt_parse_double(const char *s, double *v)
     return (end == s || *end != '\0' || errno == ERANGE) ? -1 : 0;
 }
 
+int kt_parse_number(const char *s, double *v)
+{
+    const char *p = s;
+    int digits = 0;
+    if (*p == '+' || *p == '-') p++;
+    for (; *p >= '0' && *p <= '9'; p++) digits++;
+    if (*p == '.')
+        for (p++; *p >= '0' && *p <= '9'; p++) digits++;
+    if (!digits) return -1;
+    if (*p == 'e' || *p == 'E') {
+        p++;
+        if (*p == '+' || *p == '-') p++;
+        if (!(*p >= '0' && *p <= '9')) return -1;
+        while (*p >= '0' && *p <= '9') p++;
+    }
+    double x;
+    if (*p || kt_parse_double(s, &x) != 0 || !isfinite(x)) return -1;
+    *v = x;
+    return 0;
+}
+
 int kt_parse_int(const char *s, int *v)
 {
     char *end;
+    if (!((*s >= '0' && *s <= '9') || *s == '-' || *s == '+')) return -1; /* no leading blank */
     errno = 0;
     long l = strtol(s, &end, 10);
     if (end == s || *end != '\0' || errno == ERANGE || l < INT_MIN || l > INT_MAX) return -1;
     *v = (int)l;
     return 0;
+}
+
+int kt_fnv1a_file(const char *path, unsigned long long *h, kt_err *e)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    uint64_t v = 14695981039346656037ull;
+    unsigned char buf[65536];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, f)) > 0)
+        for (size_t i = 0; i < n; i++) v = (v ^ buf[i]) * 1099511628211ull;
+    int bad = ferror(f);
+    fclose(f);
+    if (bad) return kt_fail(e, KT_EINPUT, "%s: read error", path);
+    *h = (unsigned long long)v;
+    return KT_OK;
 }

@@ -59,11 +59,25 @@ void kt_out_abort(kt_out *o);
  * Run folders store their inputs this way, so a tree holding a run and its inputs can move. */
 void kt_path_relative(const char *file, const char *dir, char *out, size_t size);
 
+/* The 64-bit FNV-1a hash of a file's bytes into *h (run.yaml's plan_hash: a run's inputs are
+ * checked against what a later reader finds). KT_EINPUT when it cannot be read. */
+int kt_fnv1a_file(const char *path, unsigned long long *h, kt_err *e);
+
 /* Make a directory (and parents) if it does not exist. */
 int kt_mkdir_p(const char *path, kt_err *e);
 
-/* Parse a whole string as a double / int; 0 on success. */
+/* The larger of a and b, NaN when either is NaN. fmax drops a NaN, so a maximum built with it
+ * can let a NaN field pass the tolerance check it feeds; build such maxima with this. */
+static inline double kt_nanmax(double a, double b) { return a > b || a != a ? a : b; }
+
+/* Parse a whole string as a double / int; 0 on success. kt_parse_double takes what strtod
+ * takes (also "NaN" and "inf", as tables write them); kt_parse_int a decimal integer, no
+ * leading blank. */
 int kt_parse_double(const char *s, double *v);
 int kt_parse_int(const char *s, int *v);
+/* The strict parser of a number a user types (arguments, edits values): the whole string in
+ * decimal notation, [+-]digits[.digits][(e|E)[+-]digits] (digits on at least one side of the
+ * point), finite, no blanks, hex, "inf" or "nan"; 0 on success, *v unchanged otherwise. */
+int kt_parse_number(const char *s, double *v);
 
 #endif

@@ -79,10 +79,10 @@ static int check_snapped(kt_incise *c, const double *old, const unsigned char *m
         const int *tv = m->tet + (size_t)t * c->nv;
         if (!moved[tv[0]] && !moved[tv[1]] && !moved[tv[2]] && !moved[tv[3]]) continue;
         double qn = quality(m->xyz, tv), qo = quality(old, tv);
-        if (qn <= 0)
+        if (!(qn > 0)) /* NaN too */
             return kt_fail(e, KT_ERUN, "snapping nodes onto the %s would invert tet %d; "
                            "lower snap.fraction or use a finer mesh", what, t + 1);
-        if (qn < qmin && qn < qo)
+        if (!(qn >= qmin) && !(qn >= qo))
             return kt_fail(e, KT_ERUN, "snapping nodes onto the %s would lower the quality "
                            "of tet %d to %.3g (limit snap.min_quality %.3g, was %.3g); lower "
                            "snap.fraction or use a finer mesh", what, t + 1, qn, qmin, qo);

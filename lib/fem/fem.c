@@ -125,10 +125,10 @@ static int is_straight(const double *x)
             double d = m[k] - 0.5 * (p[k] + q[k]);
             dev2 += d * d;
             len2 += (q[k] - p[k]) * (q[k] - p[k]);
-            big = fmax(big, fmax(fabs(p[k]), fabs(q[k])));
+            big = kt_nanmax(big, kt_nanmax(fabs(p[k]), fabs(q[k])));
         }
         double tol = 1e-13 * sqrt(len2) + 8 * 2.2e-16 * big;
-        if (dev2 > tol * tol) return 0;
+        if (!(dev2 <= tol * tol)) return 0;
     }
     return 1;
 }
@@ -141,7 +141,7 @@ static double longest_edge(const double *x)
         const double *p = x + 3 * kt_tet_edge[s][0], *q = x + 3 * kt_tet_edge[s][1];
         double d2 = 0;
         for (int k = 0; k < 3; k++) d2 += (q[k] - p[k]) * (q[k] - p[k]);
-        h2 = fmax(h2, d2);
+        h2 = kt_nanmax(h2, d2);
     }
     return sqrt(h2);
 }

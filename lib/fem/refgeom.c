@@ -303,7 +303,7 @@ static double max_dist(const double *a, const double *b, size_t n3)
     for (size_t i = 0; i < n3; i += 3) {
         double d2 = 0;
         for (int k = 0; k < 3; k++) d2 += (a[i + k] - b[i + k]) * (a[i + k] - b[i + k]);
-        dmax = fmax(dmax, sqrt(d2));
+        dmax = kt_nanmax(dmax, sqrt(d2));
     }
     return dmax;
 }

@@ -42,14 +42,22 @@ static int bad(const kt_edits_reader *r, int col, kt_err *e, const char *fmt, ..
 
 static int is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 
-/* Cut a comment ('#' at the start or after a blank) and trailing blanks; 1 if anything is left. */
+/* Cut a comment ('#' at the start or after a blank, outside a quoted string) and trailing
+ * blanks; 1 if anything is left. */
 static int strip(char *s)
 {
-    for (char *p = s; *p; p++)
-        if (*p == '#' && (p == s || is_blank(p[-1]))) {
+    int quoted = 0;
+    for (char *p = s; *p; p++) {
+        if (quoted && *p == '\\' && p[1]) {
+            p++;
+            continue;
+        }
+        if (*p == '"') quoted = !quoted;
+        if (!quoted && *p == '#' && (p == s || is_blank(p[-1]))) {
             *p = '\0';
             break;
         }
+    }
     size_t n = strlen(s);
     while (n > 0 && is_blank(s[n - 1])) s[--n] = '\0';
     for (char *p = s; *p; p++)
@@ -116,7 +124,7 @@ static int get_double(kt_edits_reader *r, cursor *c, const char *what, double *v
 {
     char *t = next_tok(c);
     int col = t ? c->col : c->eol;
-    if (!t || kt_parse_double(t, v) != 0 || !isfinite(*v))
+    if (!t || kt_parse_number(t, v) != 0)
         return bad(r, col, e, "expected %s (a finite number)%s%s", what, t ? ", found " : "",
                    t ? t : "");
     return KT_OK;
@@ -129,21 +137,88 @@ static int expect_end_of_line(kt_edits_reader *r, cursor *c, kt_err *e)
     return KT_OK;
 }
 
-/* A path after its keyword: the rest of the line, at most 1023 bytes. */
+static int hex_digit(char ch)
+{
+    return ch >= '0' && ch <= '9' ? ch - '0' : ch >= 'a' && ch <= 'f' ? ch - 'a' + 10
+         : ch >= 'A' && ch <= 'F' ? ch - 'A' + 10 : -1;
+}
+
+/* A double-quoted string at c->p (the writers' form of paths and labels, keratome-edits(5)):
+ * its unescaped text into dst (size bytes); c->p moves past the closing quote. */
+static int get_quoted(kt_edits_reader *r, cursor *c, char *dst, size_t size, const char *what,
+                      kt_err *e)
+{
+    int col0 = (int)(c->p - c->line) + 1;
+    size_t n = 0;
+    char *p = c->p + 1;
+    for (;; p++) {
+        int col = (int)(p - c->line) + 1;
+        char ch = *p;
+        if (ch == '\0') return bad(r, col0, e, "expected %s closed by '\"'", what);
+        if (ch == '"') break;
+        if (ch == '\\') {
+            char x = *++p;
+            int h1, h2;
+            if (x == '\\' || x == '"') ch = x;
+            else if (x == 'n') ch = '\n';
+            else if (x == 't') ch = '\t';
+            else if (x == 'r') ch = '\r';
+            else if (x == 'x' && (h1 = hex_digit(p[1])) >= 0 && (h2 = hex_digit(p[2])) >= 0 &&
+                     (h1 || h2)) {
+                ch = (char)(16 * h1 + h2);
+                p += 2;
+            } else
+                return bad(r, col, e, "expected an escape \\\\, \\\", \\n, \\t, \\r or \\xHH "
+                           "(not 00) in %s", what);
+        }
+        if (n + 1 >= size) return bad(r, col0, e, "expected %s under %zu bytes", what, size);
+        dst[n++] = ch;
+    }
+    dst[n] = '\0';
+    if (n == 0) return bad(r, col0, e, "expected %s, found \"\"", what);
+    c->p = p + 1;
+    if (*c->p && !is_blank(*c->p))
+        return bad(r, (int)(c->p - c->line) + 1, e, "expected a blank after the closing '\"'");
+    return KT_OK;
+}
+
+/* A path after its keyword: a quoted string (what cutplan writes), or else the rest of the
+ * line, at most 1023 bytes. */
 static int get_path(kt_edits_reader *r, cursor *c, const char *key, char *dst, kt_err *e)
 {
     if (dst[0]) return bad(r, 1, e, "expected one '%s' header line, found a second", key);
     char *t = rest(c);
     if (!t) return bad(r, c->eol, e, "expected a file name after '%s'", key);
+    if (*t == '"') {
+        if (get_quoted(r, c, dst, 1024, "a file name", e)) return e->code;
+        return expect_end_of_line(r, c, e);
+    }
     if (strlen(t) >= 1024) return bad(r, c->col, e, "expected a file name under 1024 bytes");
     strcpy(dst, t);
     return KT_OK;
 }
 
-/* "mesh FILE NN NE": the file name may hold blanks, the counts are the last two tokens. */
+/* "mesh "FILE" NN NE" (quoted, as cutplan writes it), then expected end of line. */
+static int parse_mesh_quoted(kt_edits_reader *r, cursor *c, kt_err *e)
+{
+    if (get_quoted(r, c, r->h.mesh, sizeof r->h.mesh, "a file name", e)) return e->code;
+    char *t = next_tok(c);
+    if (!t || kt_parse_int(t, &r->h.nn) != 0 || r->h.nn < 1 || r->h.nn > KT_MESH_MAX_NODES)
+        return bad(r, t ? c->col : c->eol, e, "expected the mesh node count (an integer in 1..%d)%s%s",
+                   KT_MESH_MAX_NODES, t ? ", found " : "", t ? t : "");
+    t = next_tok(c);
+    if (!t || kt_parse_int(t, &r->h.ne) != 0 || r->h.ne < 1 || r->h.ne > KT_MESH_MAX_TETS)
+        return bad(r, t ? c->col : c->eol, e, "expected the mesh tet count (an integer in 1..%d)%s%s",
+                   KT_MESH_MAX_TETS, t ? ", found " : "", t ? t : "");
+    return expect_end_of_line(r, c, e);
+}
+
+/* "mesh FILE NN NE": the file name quoted, or bare (it may then hold blanks: the counts are
+ * the last two tokens). */
 static int parse_mesh_line(kt_edits_reader *r, cursor *c, kt_err *e)
 {
     char *t = rest(c);
+    if (t && *t == '"') return parse_mesh_quoted(r, c, e);
     int col0 = t ? c->col : c->eol;
     char *sp2 = t ? strrchr(t, ' ') : NULL;
     char *tab2 = t ? strrchr(t, '\t') : NULL;
@@ -338,7 +413,8 @@ static int parse_step_line(kt_edits_reader *r, char *line, kt_step *s, kt_err *e
     cursor c = cursor_at(line);
     char *key = next_tok(&c);
     if (strcmp(key, "step") != 0)
-        return bad(r, c.col, e, "expected 'step %d', found '%s'", r->last_step + 1, key);
+        return bad(r, c.col, e, "expected 'step %d' or 'done %d', found '%s'", r->last_step + 1,
+                   r->last_step, key);
     int idx;
     char *t = next_tok(&c);
     if (r->last_step >= KT_EDITS_MAX_STEPS)
@@ -348,8 +424,24 @@ static int parse_step_line(kt_edits_reader *r, char *line, kt_step *s, kt_err *e
                    r->last_step + 1, t ? ", found " : "", t ? t : "");
     s->index = idx;
     char *label = rest(&c);
+    if (label && *label == '"') {
+        if (get_quoted(r, &c, s->label, sizeof s->label, "a label", e)) return e->code;
+        return expect_end_of_line(r, &c, e);
+    }
     if (label) snprintf(s->label, sizeof s->label, "%s", label);
     return KT_OK;
+}
+
+/* "done N", the stream's last record: N, the number of steps, must be the steps read. */
+static int parse_done(kt_edits_reader *r, cursor *c, kt_err *e)
+{
+    char *t = next_tok(c);
+    int n;
+    if (!t || kt_parse_int(t, &n) != 0 || n != r->last_step)
+        return bad(r, t ? c->col : c->eol, e, "expected 'done %d' (the number of steps read)%s%s",
+                   r->last_step, t ? ", found done " : "", t ? t : "");
+    if (n < 1) return bad(r, 1, e, "expected at least one step before 'done'");
+    return expect_end_of_line(r, c, e);
 }
 
 static int parse_edit_line(kt_edits_reader *r, char *line, kt_step *s, int *done, kt_err *e)
@@ -366,15 +458,46 @@ static int parse_edit_line(kt_edits_reader *r, char *line, kt_step *s, int *done
     return bad(r, c.col, e, "expected 'dup', 'fix', 'force' or 'end', found '%s'", key);
 }
 
+/* After "done": only blanks and comments may follow. */
+static int after_done(kt_edits_reader *r, char **buf, size_t *cap, kt_err *e)
+{
+    int rc = read_line(r, buf, cap, e);
+    if (rc > 0) {
+        cursor c = cursor_at(*buf);
+        char *t = next_tok(&c);
+        return bad(r, c.col, e, "expected the end of the stream after 'done %d', found '%s'",
+                   r->last_step, t);
+    }
+    return rc < 0 ? e->code : KT_OK;
+}
+
 int kt_edits_next(kt_edits_reader *r, kt_step *s, kt_err *e)
 {
     kt_step_clear(s);
+    if (r->done) return 0;
     char *buf = NULL;
     size_t cap = 0;
     int rc = read_line(r, &buf, &cap, e);
+    if (rc == 0 && r->last_step == 0)
+        bad(r, 0, e, "expected 'step 1', found the end of the stream (a header alone, cut short: "
+            "the writer stopped or the pipe broke)");
+    else if (rc == 0)
+        bad(r, 0, e, "expected 'step %d' or 'done %d', found the end of the stream (cut short: "
+            "the writer stopped or the pipe broke)", r->last_step + 1, r->last_step);
     if (rc <= 0) {
         free(buf);
-        return rc;
+        return -1;
+    }
+    const char *k = buf;
+    while (is_blank(*k)) k++;
+    if (strncmp(k, "done", 4) == 0 && (k[4] == '\0' || is_blank(k[4]))) {
+        cursor c0 = cursor_at(buf);
+        next_tok(&c0);
+        if (parse_done(r, &c0, e) == KT_OK) after_done(r, &buf, &cap, e);
+        free(buf);
+        if (e->code) return -1;
+        r->done = 1;
+        return 0;
     }
     int done = 0;
     if (parse_step_line(r, buf, s, e) == KT_OK) {
@@ -435,19 +558,56 @@ static int check_written(FILE *f, kt_err *e)
     return KT_OK;
 }
 
+/* s double-quoted: '\\' and '"' escaped, control bytes as \n \t \r or \xHH, so '#', blanks,
+ * quotes and newlines in a path survive the reader (keratome-edits(5)). */
+static void put_quoted(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+        if (*p == '\\' || *p == '"') fprintf(f, "\\%c", *p);
+        else if (*p == '\n') fputs("\\n", f);
+        else if (*p == '\t') fputs("\\t", f);
+        else if (*p == '\r') fputs("\\r", f);
+        else if (*p < 0x20 || *p == 0x7f) fprintf(f, "\\x%02x", *p);
+        else fputc(*p, f);
+    }
+    fputc('"', f);
+}
+
+static void put_path_line(FILE *f, const char *key, const char *path)
+{
+    fprintf(f, "%s ", key);
+    put_quoted(f, path);
+    fputc('\n', f);
+}
+
 int kt_edits_write_header(FILE *f, const kt_edits_header *h, kt_err *e)
 {
     fprintf(f, "keratome-edits 1\n");
-    if (h->scene[0]) fprintf(f, "scene %s\n", h->scene);
-    if (h->plan[0]) fprintf(f, "plan %s\n", h->plan);
+    if (h->scene[0]) put_path_line(f, "scene", h->scene);
+    if (h->plan[0]) put_path_line(f, "plan", h->plan);
     if (h->has_hash) fprintf(f, "hash %016" PRIx64 "\n", h->hash);
-    fprintf(f, "mesh %s %d %d\n", h->mesh[0] ? h->mesh : "-", h->nn, h->ne);
+    fputs("mesh ", f);
+    put_quoted(f, h->mesh[0] ? h->mesh : "-");
+    fprintf(f, " %d %d\n", h->nn, h->ne);
+    return check_written(f, e);
+}
+
+int kt_edits_write_done(FILE *f, int nsteps, kt_err *e)
+{
+    if (nsteps < 1) return kt_fail(e, KT_ERUN, "edits: a stream needs at least one step");
+    fprintf(f, "done %d\n", nsteps);
     return check_written(f, e);
 }
 
 int kt_edits_write_step(FILE *f, const kt_step *s, kt_err *e)
 {
-    fprintf(f, s->label[0] ? "step %d %s\n" : "step %d\n", s->index, s->label);
+    fprintf(f, "step %d", s->index);
+    if (s->label[0]) {
+        fputc(' ', f);
+        put_quoted(f, s->label);
+    }
+    fputc('\n', f);
     static const char comp[3] = {'x', 'y', 'z'};
     for (int i = 0; i < s->n; i++) {
         const kt_edit *ed = &s->edit[i];

@@ -173,6 +173,11 @@ static int parse_position(kt_yml *y, const yaml_node_t *n, const char *what, con
     if (kt_yml_key_quantity(y, n, what, "diameter", KT_UNIT_LENGTH,
                             (kt_yml_bounds){0, rmax, 1, 1}, &inc->diameter, e))
         return e->code;
+    if (!(inc->diameter > eye->optical_zone)) /* a cut across the visual axis zone */
+        return kt_yml_fail(y, kt_yml_get(y, n, "diameter"), e, "%s.diameter: expected a diameter "
+                           "outside the eye's optical zone (> eye.optical_zone = %g mm; limbal "
+                           "relaxing incisions lie in the peripheral cornea), found %g mm", what,
+                           eye->optical_zone, inc->diameter);
     int r = find_ring(eye, NULL, inc->diameter);
     if (r >= 0) snprintf(inc->surface, sizeof inc->surface, "%s", eye->ring[r].name);
     return KT_OK;

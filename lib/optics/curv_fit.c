@@ -41,7 +41,7 @@ static int lsq_solve(double *A, int m, int n, double *b, double *x, kt_err *e)
     }
     for (int k = n - 1; k >= 0; k--) {
         double rkk = A[(size_t)k * m + k];
-        if (fabs(rkk) <= 1e-13 * rmax)
+        if (!(fabs(rkk) > 1e-13 * rmax)) /* NaN too */
             return kt_fail(e, KT_ERUN, "least squares: rank deficient (column %d)", k);
         double s = b[k];
         for (int j = k + 1; j < n; j++) s -= A[(size_t)j * m + k] * x[j];
@@ -406,6 +406,10 @@ int kt_curv_fit(const double *xyz, int n, int kind, int order, double zone_d, do
         }
         f->npts = np;
         f->rms = np ? sqrt(ss / np) : NAN;
+        if (!isfinite(f->rms) || !isfinite(f->az)) /* the iterations' stops pass NaN by */
+            rc = kt_fail(e, KT_ERUN, "the %s fit over the %.2f mm zone is not finite (rms %g): "
+                         "NaN or overflowed surface coordinates?", kind == KT_FIT_TORIC ? "toric" :
+                         "Zernike", zone_d, f->rms);
     }
     free(idx);
     return rc;

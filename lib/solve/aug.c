@@ -187,10 +187,10 @@ static int verify(kt_aug *A, kt_err *e)
         double dmax = 0, rmax = 0;
         for (int i = 0; i < n; i++) {
             if (A->outmask && !A->outmask[i]) continue;
-            dmax = fmax(dmax, fabs(A->u[i] - ref[i]));
-            rmax = fmax(rmax, fabs(ref[i]));
+            dmax = kt_nanmax(dmax, fabs(A->u[i] - ref[i]));
+            rmax = kt_nanmax(rmax, fabs(ref[i]));
         }
-        A->row.verify_rel_diff = rmax > 0 ? dmax / rmax : dmax;
+        A->row.verify_rel_diff = rmax == 0 ? dmax : dmax / rmax;
         if (!(A->row.verify_rel_diff <= A->o.verify_tol))
             kt_fail(e, KT_ERUN, "step %d: --verify: %s and a fresh factorization differ by %.3g "
                     "(relative, max norm) > --verify-tol %.3g", A->s.step,

@@ -72,7 +72,7 @@ static double free_residual(kt_aug *A, cholmod_sparse *K, const double *u, const
             den += b[i] * b[i];
         }
     cholmod_free_dense(&R, c);
-    return den > 0 ? sqrt(num / den) : sqrt(num);
+    return den == 0 ? sqrt(num) : sqrt(num / den); /* NaN stays NaN */
 }
 
 static int fresh_with(kt_aug *A, cholmod_common *c, int use_opts, double *u, double *t,
@@ -132,6 +132,9 @@ int aug_solve_refactor(kt_aug *A, kt_err *e)
 {
     double t[4];
     if (aug_fresh_solve(A, 1, A->u, t, &A->row.rel_residual, e)) return e->code;
+    if (!isfinite(A->row.rel_residual)) /* a direct solve has no tolerance, but NaN is no answer */
+        return kt_fail(e, KT_ERUN, "step %d: the refactor solve's residual is %g (loads or "
+                       "stiffness out of double precision's range?)", A->s.step, A->row.rel_residual);
     A->row.t_update += aug_ms(t[0]);
     A->row.t_step1 = aug_ms(t[1]);
     A->row.t_step2 = aug_ms(t[2]);

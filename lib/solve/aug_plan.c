@@ -117,9 +117,27 @@ static void auto_fixes(kt_plan *p, const kt_mesh *m, const kt_aug_problem *prob,
         }
 }
 
+/* Tets holding each node, kept through the dups (deg has room for every node of the plan). */
+typedef struct degree {
+    int *n;
+} degree;
+
+/* A dup leaves its node in at least one tet (keratome-edits(5)): a node in no tet has no
+ * stiffness, and the factorization would find that only as a singular matrix. */
+static int count_dup(degree *d, const kt_edit *ed, const kt_step *s, const char *stream,
+                     kt_err *e)
+{
+    d->n[ed->node] -= ed->nel;
+    d->n[ed->new_node] = ed->nel;
+    if (d->n[ed->node] > 0) return KT_OK;
+    return kt_fail(e, KT_EINPUT, "%s:%ld: step %d: expected a dup that leaves node %d in at least "
+                   "one tetrahedron, found one that moves all %d of its tets to node %d", stream,
+                   ed->line, s->index, ed->node + 1, ed->nel, ed->new_node + 1);
+}
+
 /* One step: every dup applied and checked, fix edits noted (they change K's block). */
 static int check_step(kt_plan *p, kt_mesh *m, const kt_aug_problem *prob, kt_step *s,
-                      const char *stream, kt_err *e)
+                      degree *d, const char *stream, kt_err *e)
 {
     int nn_old = m->nn;
     for (int i = 0; i < s->n; i++) {
@@ -131,7 +149,9 @@ static int check_step(kt_plan *p, kt_mesh *m, const kt_aug_problem *prob, kt_ste
             not_usable(p, stream, ed->line, w);
         }
         if (ed->kind != KT_EDIT_DUP) continue;
-        if (apply_one(m, s, ed, stream, e) || grow(p, m->nn, e)) return e->code;
+        if (apply_one(m, s, ed, stream, e) || count_dup(d, ed, s, stream, e) ||
+            grow(p, m->nn, e))
+            return e->code;
         p->parent[ed->new_node] = ed->node;
     }
     auto_fixes(p, m, prob, nn_old, s, stream);
@@ -153,9 +173,17 @@ int kt_plan_check(kt_plan *p, const char *stream, const kt_aug_problem *prob, kt
         p->g[j] = p->gv[j] = p->fixed[j] && prob->g ? prob->g[j] : 0;
     }
     p->nn_at[0] = m0->nn;
+    long nn_end = m0->nn; /* the reader bounds the dups: nn_end <= KT_MESH_MAX_NODES */
+    for (int k = 0; k < p->nsteps; k++)
+        for (int i = 0; i < p->step[k].n; i++) nn_end += p->step[k].edit[i].kind == KT_EDIT_DUP;
+    degree d = {kt_calloc((size_t)nn_end, sizeof(int), e)};
+    if (!d.n) return e->code;
+    int nv = kt_tet_nv(m0->order);
+    for (size_t q = 0; q < (size_t)m0->ne * nv; q++) d.n[m0->tet[q]]++;
     for (int k = 0; k < p->nsteps; k++) {
-        if (check_step(p, final, prob, &p->step[k], stream, e)) return e->code;
+        if (check_step(p, final, prob, &p->step[k], &d, stream, e)) break;
         p->nn_at[k + 1] = final->nn;
     }
-    return KT_OK;
+    free(d.n);
+    return e->code;
 }

@@ -285,7 +285,7 @@ static double residual(const kt_plan_factor *F, int N, double fro, const double 
         xx += x[i] * x[i];
     }
     double den = fro * sqrt(xx) + sqrt(bb);
-    *backward = den > 0 ? sqrt(rr) / den : 0;
+    *backward = den == 0 ? 0 : sqrt(rr) / den; /* NaN stays NaN: the check must fail on it */
     return bb > 0 ? sqrt(rr / bb) : sqrt(rr);
 }
 
@@ -319,7 +319,10 @@ static int step_rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
     if (loads(s, prob, e)) return e->code;
     rhs(s, p, F);
     *scale = 0;
-    for (int v = 0; v < 3 * s->mesh.nn; v++) *scale = fmax(*scale, fabs(s->tf[v]));
+    for (int v = 0; v < 3 * s->mesh.nn; v++) *scale = kt_nanmax(*scale, fabs(s->tf[v]));
+    if (!isfinite(*scale))
+        return kt_fail(e, KT_EINPUT, "step %d: the loads sum to a value that is not finite "
+                       "(an edits force or a pressure too large)", s->step);
     return KT_OK;
 }
 

@@ -159,7 +159,7 @@ static double residual(const kt_aug *A, const double *b, const double *x, double
         bb += b[i] * b[i];
         aa += ax[i] * ax[i];
     }
-    *backward = aa + bb > 0 ? sqrt(rr) / (sqrt(aa) + sqrt(bb)) : 0;
+    *backward = aa + bb == 0 ? 0 : sqrt(rr) / (sqrt(aa) + sqrt(bb)); /* NaN stays NaN */
     return bb > 0 ? sqrt(rr / bb) : sqrt(rr);
 }
 

@@ -81,7 +81,12 @@ int aug_stream_loads(aug_stream *s, kt_err *e)
     for (int k = 0; k < s->npress; k++)
         if (kt_fem_pressure(&s->mesh, s->press[k].tag, s->press[k].p, s->f, e)) return e->code;
     if (kt_fem_release_loads(&s->mesh, &s->mats, s->f, e)) return e->code;
-    for (size_t i = 0; i < n; i++) s->f[i] += s->force[i];
+    for (size_t i = 0; i < n; i++) {
+        s->f[i] += s->force[i];
+        if (!isfinite(s->f[i]))
+            return kt_fail(e, KT_EINPUT, "step %d: the load on node %zu sums to a value that is "
+                           "not finite (an edits force or a pressure too large)", s->step, i / 3 + 1);
+    }
     return KT_OK;
 }
 

@@ -62,6 +62,9 @@ int kt_krylov_cg(int n, kt_krylov_op A, void *actx, const double *dinv, const do
 {
     memset(st, 0, sizeof *st);
     double bn = nrm2(n, b);
+    if (!isfinite(bn)) /* the target tol ||b|| would be met by any residual, NaN included */
+        return kt_fail(e, KT_ERUN, "CG: the right-hand side's norm is %g (loads out of double "
+                       "precision's range?)", bn);
     if (n == 0 || bn == 0) {
         if (n) memset(x, 0, sizeof(double) * n);
         st->converged = 1;
@@ -74,7 +77,7 @@ int kt_krylov_cg(int n, kt_krylov_op A, void *actx, const double *dinv, const do
         double rn = residual(n, A, actx, b, x, r, e);
         if (rn < 0) break;
         st->relres = rn / bn;
-        if (rn <= target) {
+        if (rn <= target) { /* false for NaN */
             st->converged = 1;
             break;
         }

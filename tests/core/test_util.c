@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <limits.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -121,13 +122,26 @@ static void test_parse(void)
         double v;
         CHECK(kt_parse_double(badd[i], &v) != 0, "'%s' accepted as a double", badd[i]);
     }
+    /* the strict parser of what a user types (issue 26: hex, blanks, inf and nan were taken) */
+    struct { const char *s; double v; } okn[] = {{"0", 0}, {"40", 40}, {"-1.5", -1.5}, {"+.5", 0.5},
+                                                 {"5.", 5}, {"1e-3", 1e-3}, {"2E+2", 200}, {"1e308", 1e308}};
+    for (size_t i = 0; i < sizeof okn / sizeof okn[0]; i++) {
+        double v = NAN;
+        CHECK(kt_parse_number(okn[i].s, &v) == 0 && v == okn[i].v, "'%s' -> %g", okn[i].s, v);
+    }
+    const char *badn[] = {"", " 40", "40 ", "0x28", "0x1p3", "nan", "NaN", "inf", "-inf", "infinity",
+                          "1e999", ".", "e5", "1e", "1e+", "--1", "1,5", "40deg", "+", "1.5.2"};
+    for (size_t i = 0; i < sizeof badn / sizeof badn[0]; i++) {
+        double v = 123;
+        CHECK(kt_parse_number(badn[i], &v) != 0 && v == 123, "'%s' accepted as a number", badn[i]);
+    }
     struct { const char *s; int v; } oki[] = {{"0", 0}, {"42", 42}, {"-7", -7}, {"2147483647", INT_MAX},
                                             {"-2147483648", INT_MIN}, {"007", 7}};
     for (size_t i = 0; i < sizeof oki / sizeof oki[0]; i++) {
         int v = -1;
         CHECK(kt_parse_int(oki[i].s, &v) == 0 && v == oki[i].v, "'%s' -> %d", oki[i].s, v);
     }
-    const char *badi[] = {"", "2147483648", "-2147483649", "99999999999999999999", "1.0", "12a", "0x10", "1e3", " "};
+    const char *badi[] = {"", "2147483648", "-2147483649", "99999999999999999999", "1.0", "12a", "0x10", "1e3", " ", " 5", "\t5"};
     for (size_t i = 0; i < sizeof badi / sizeof badi[0]; i++) {
         int v = 123;
         CHECK(kt_parse_int(badi[i], &v) != 0, "'%s' accepted as an int", badi[i]);

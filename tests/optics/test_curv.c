@@ -309,10 +309,15 @@ static int make_run(const char *dir, int order, const char *drop, int no_anterio
     }
     snprintf(path, sizeof path, "%s/eye.msh", dir);
     if (kt_msh_write(path, &m, 0, &e)) goto fail;
+    kt_mesh back; /* the hash of the mesh as curvature reads it */
+    if (kt_msh_read(path, &back, &e)) goto fail;
+    unsigned long long hash = kt_mesh_hash(&back);
+    kt_mesh_free(&back);
     FILE *f;
     snprintf(path, sizeof path, "%s/run.yaml", dir);
     f = fopen(path, "w");
-    fprintf(f, "mesh: %s/eye.msh\nmethod: augmented\norder: %d\nsteps: %d\n", dir, order, nsteps);
+    fprintf(f, "mesh: %s/eye.msh\nmethod: augmented\norder: %d\nsteps: %d\nmesh_hash: \"%016llx\"\n",
+            dir, order, nsteps, hash);
     fclose(f);
     snprintf(path, sizeof path, "%s/steps.tsv", dir);
     f = fopen(path, "w");

@@ -61,6 +61,7 @@ static int write_stream(const scenario *s, FILE *f, int *nsteps, kt_err *e)
     split_again(&cur, &st, prev_nn, cur.nn, 0.5 * s->h * (s->ny - 1), e);
     if (!e->code && st.n) kt_edits_write_step(f, &st, e);
     else k--;
+    if (!e->code) kt_edits_write_done(f, k, e);
     *nsteps = k;
     kt_step_free(&st);
     kt_mesh_free(&cur);
@@ -247,7 +248,7 @@ static void check_validation(scenario *s)
     tets_of(&s->mesh, a, &with, &without);
     char body[512];
     /* step 2 moves a tet that does not hold the node: found before any factoring */
-    snprintf(body, sizeof body, "step 1\ndup %d %d 1 %d\nend\nstep 2\ndup %d %d 2 %d %d\nend\n",
+    snprintf(body, sizeof body, "step 1\ndup %d %d 1 %d\nend\nstep 2\ndup %d %d 2 %d %d\nend\ndone 2\n",
              a + 1, s->mesh.nn + 1, with + 1, a + 1, s->mesh.nn + 2, with + 1, without + 1);
     FILE *f = text_stream(s, body);
     kt_err e = {0};
@@ -262,8 +263,28 @@ static void check_validation(scenario *s)
     kt_mesh_free(&final);
     kt_plan_free(&p);
     fclose(f);
+    /* a dup that moves every tet of its node leaves a node in no tet (issue 26, item 12):
+     * refused before any factoring, naming the line and the step */
+    int n = snprintf(body, sizeof body, "step 1\ndup %d %d 1 %d\nend\nstep 2\ndup %d %d ", a + 1,
+                     s->mesh.nn + 1, with + 1, a + 1, s->mesh.nn + 2);
+    int cnt = 0, list[64];
+    for (int t = 0; t < s->mesh.ne && cnt < 64; t++)
+        for (int l = 0; l < 4; l++)
+            if (s->mesh.tet[4 * t + l] == a && t != with) list[cnt++] = t + 1;
+    n += snprintf(body + n, sizeof body - n, "%d", cnt);
+    for (int i = 0; i < cnt; i++) n += snprintf(body + n, sizeof body - n, " %d", list[i]);
+    snprintf(body + n, sizeof body - n, "\nend\ndone 2\n");
+    f = text_stream(s, body);
+    e = (kt_err){0};
+    CHECK(read_plan(f, &p, &e) == KT_OK, "orphan: read: %s", e.msg);
+    CHECK(kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_EINPUT &&
+              strncmp(e.msg, "stream:8: step 2:", 17) == 0 && strstr(e.msg, "at least one tetrahedron"),
+          "orphan: not refused: '%s'", e.msg);
+    kt_mesh_free(&final);
+    kt_plan_free(&p);
+    fclose(f);
     /* a fix edit changes the intact block: usable = 0, with its line */
-    snprintf(body, sizeof body, "step 1\ndup %d %d 1 %d\nend\nstep 2\nfix %d x 0.001\nend\n",
+    snprintf(body, sizeof body, "step 1\ndup %d %d 1 %d\nend\nstep 2\nfix %d x 0.001\nend\ndone 2\n",
              a + 1, s->mesh.nn + 1, with + 1, a + 1);
     f = text_stream(s, body);
     e = (kt_err){0};
