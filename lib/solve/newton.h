@@ -6,6 +6,8 @@
 
 #include <stdio.h>
 
+#include "bind.h"
+#include "edits.h"
 #include "fem.h"
 
 typedef struct kt_newton_opts {
@@ -23,7 +25,7 @@ void kt_newton_defaults(kt_newton_opts *o);
  *   R(u, lambda) = r(u; ps) - lambda fdead - (1 - lambda) r0,   u = lambda g on fixed DOFs,
  * r = kt_fem_nl_residual (internal forces minus follower pressures scaled by ps), ps = lambda
  * when pressure_ramp, else 1. r0 (NULL: zero) is the residual the path starts from: with
- * r0 = r(0; 1) - fdead, u = 0 solves lambda = 0 and lambda = 1 releases what r0 holds (a cut
+ * r0 = r(0; 1) and g = 0, u = 0 solves lambda = 0 and lambda = 1 releases what r0 holds (a cut
  * in a prestressed body: the tractions its faces lose). */
 typedef struct kt_newton_problem {
     const kt_mesh *m;
@@ -53,5 +55,18 @@ typedef struct kt_newton_stats {
  * (logged); past max_cuts that is KT_ERUN naming lambda and the cause. st may be NULL. */
 int kt_newton_solve(const kt_newton_problem *p, const kt_newton_opts *o, double *u,
                     kt_newton_stats *st, kt_err *e);
+
+/* The nonlinear reference on a plan's edits (augsolve --method newton). m: the intact mesh on
+ * entry, the cut mesh on return (steps[0..nsteps) applied: dups, fixes, forces). fp: the
+ * problem bound on the intact mesh (kt_physics_problem: materials with their per-tet data,
+ * Dirichlet DOFs and values, pressures, fixation surfaces); a node a dup creates on a fixation
+ * surface is fixed like the surface. With a prestress (fp->mats.td->sig) the path starts from
+ * the mesh as the pressurized state (u = 0, in equilibrium before the cut) and releases the
+ * cut in load increments: r0 = r(0; 1) on the cut mesh, pressures (td->pface) at full value
+ * throughout, the edits' forces and fixes growing with lambda. Without one, the pressures (as
+ * follower loads), forces and prescribed values grow together from the stress-free mesh.
+ * *u := the 3 * m->nn displacements (allocated; the caller frees it). */
+int kt_newton_plan(kt_mesh *m, const kt_fem_problem *fp, const kt_step *steps, int nsteps,
+                   const kt_newton_opts *o, double **u, kt_newton_stats *st, kt_err *e);
 
 #endif
