@@ -126,7 +126,7 @@ static int increment(work *w, double lambda, double *u, const kt_newton_opts *o,
             snprintf(cause, csz, "residual is NaN");
             return 1;
         }
-        if (rel <= o->rtol) {
+        if (rel <= o->rtol && !(o->linear && it == 0)) {
             cholmod_free_sparse(&K, w->c);
             return 0;
         }
@@ -159,6 +159,10 @@ static int increment(work *w, double lambda, double *u, const kt_newton_opts *o,
         if (!X) return kt_fail(e, KT_ERUN, "newton: CHOLMOD solve failed (status %d)", w->c->status);
         memcpy(w->du, X->x, w->n * sizeof(double));
         cholmod_free_dense(&X, w->c);
+        if (o->linear) {
+            for (size_t i = 0; i < w->n; i++) u[i] += w->du[i];
+            return 0;
+        }
         double s0 = -dot(w->du, w->r, w->n), alpha = 0; /* w->r holds -R */
         if (!(s0 < 0)) {
             snprintf(cause, csz, "the step is not a descent direction (du . R = %.3g)", s0);
@@ -192,7 +196,7 @@ int kt_newton_solve(const kt_newton_problem *p, const kt_newton_opts *o, double 
     w.save = kt_calloc(w.n, sizeof(double), e);
     w.prev = kt_calloc(w.n, sizeof(double), e);
     memset(u, 0, w.n * sizeof(double));
-    double lambda = 0, dl = 1.0 / o->increments, dl_prev = 0;
+    double lambda = 0, dl = o->linear ? 1.0 : 1.0 / o->increments, dl_prev = 0;
     while (!e->code && lambda < 1) {
         double next = fmin(1.0, lambda + dl);
         if (1.0 - next < 1e-12) next = 1.0;

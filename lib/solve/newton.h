@@ -16,9 +16,12 @@ typedef struct kt_newton_opts {
     int max_cuts;   /* increment halvings allowed over the whole path */
     double rtol;    /* converged when ||R_free|| <= rtol * max(||f_int||, ||lambda fdead||) */
     FILE *log;      /* one line per iteration and per cut, or NULL */
+    int linear;     /* 1: one increment, one full step from u = 0 and return: the linear answer
+                     * about the start, K_T(0) u = -R(0, 1) (what the constant-tangent methods
+                     * solve); for comparisons with the same assembly */
 } kt_newton_opts;
 
-/* 10 increments, 25 iterations, 12 cuts, rtol 1e-10, no log. */
+/* 10 increments, 25 iterations, 12 cuts, rtol 1e-10, no log, not linear. */
 void kt_newton_defaults(kt_newton_opts *o);
 
 /* The load path, lambda from 0 to 1:
