@@ -209,12 +209,13 @@ int kt_newton_solve(const kt_newton_problem *p, const kt_newton_opts *o, double 
         if (e->code) break;
         if (!cut) {
             dl_prev = next - lambda;
-            lambda = next;
+            lambda = st->lambda = next;
             memcpy(w.prev, w.save, w.n * sizeof(double));
             st->increments++;
             continue;
         }
         memcpy(u, w.save, w.n * sizeof(double));
+        snprintf(st->cause, sizeof st->cause, "%s", cause);
         if (++st->cuts > o->max_cuts) {
             kt_fail(e, KT_ERUN, "newton: no equilibrium at lambda %.6g after %d increment cuts: "
                     "%s", next, o->max_cuts, cause);

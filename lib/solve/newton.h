@@ -48,6 +48,8 @@ typedef struct kt_newton_stats {
     int nres;        /* relative residuals of the last increment, res[0] at its start */
     double res[KT_NEWTON_HIST];
     double t;        /* seconds */
+    double lambda;   /* the last load level reached (1 on success) */
+    char cause[300]; /* why the last increment was cut ("" if none was) */
 } kt_newton_stats;
 
 /* u (3*nn, overwritten; its input is ignored) := the equilibrium at lambda = 1 reached along the

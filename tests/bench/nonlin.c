@@ -11,13 +11,28 @@
  * SIA's axis, steepening = dK at the SIA's axis (K from the zone-averaged meridional powers),
  * coupling ratio = flattening / steepening, the mean K change; then the relative difference
  * of the two displacement fields. One TSV row per method on stdout.
- *   bench_nonlin MESH SCENE EDITS [--increments N] [--zone MM] [--log] */
+ * --linear skips the reference. --field PREFIX writes each field, one node a line (PREFIX-linear.txt, PREFIX-newton.txt).
+ *   bench_nonlin MESH SCENE EDITS [--increments N] [--zone MM] [--log] [--linear]
+ *                [--field PREFIX] */
 #include <time.h>
 
 #include "bench.h"
 #include "curv.h"
 #include "edits.h"
 #include "newton.h"
+
+/* PREFIX-NAME.txt := u, one node a line (written atomically). */
+static int write_field(const char *prefix, const char *name, const double *u, int nn, kt_err *e)
+{
+    char path[4096];
+    if (snprintf(path, sizeof path, "%s-%s.txt", prefix, name) >= (int)sizeof path)
+        return kt_fail(e, KT_EINPUT, "--field %s: path too long", prefix);
+    kt_out out;
+    if (kt_out_open(&out, path, e)) return e->code;
+    for (int i = 0; i < nn; i++)
+        fprintf(out.f, "%.17g %.17g %.17g\n", u[3 * i], u[3 * i + 1], u[3 * i + 2]);
+    return kt_out_commit(&out, e);
+}
 
 typedef struct ksum {
     kt_kerato k;
@@ -76,24 +91,27 @@ static int read_steps(const char *path, kt_step **steps, int *nsteps, kt_err *e)
 
 int main(int argc, char **argv)
 {
-    const char *mesh = NULL, *scene = NULL, *edits = NULL;
-    int increments = 5, log = 0;
+    const char *mesh = NULL, *scene = NULL, *edits = NULL, *field = NULL;
+    int increments = 5, log = 0, only_linear = 0;
     double zone = 3;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--increments") && i + 1 < argc) increments = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--zone") && i + 1 < argc) zone = atof(argv[++i]);
         else if (!strcmp(argv[i], "--log")) log = 1;
+        else if (!strcmp(argv[i], "--linear")) only_linear = 1;
+        else if (!strcmp(argv[i], "--field") && i + 1 < argc) field = argv[++i];
         else if (argv[i][0] != '-' && !mesh) mesh = argv[i];
         else if (argv[i][0] != '-' && !scene) scene = argv[i];
         else if (argv[i][0] != '-' && !edits) edits = argv[i];
         else {
             fprintf(stderr, "bench_nonlin: argument '%s': expected MESH SCENE EDITS [--increments N] "
-                    "[--zone MM] [--log]\n", argv[i]);
+                    "[--zone MM] [--log] [--linear] [--field PREFIX]\n", argv[i]);
             return 2;
         }
     }
     if (!edits || increments < 1 || !(zone > 0)) {
-        fprintf(stderr, "usage: bench_nonlin MESH SCENE EDITS [--increments N >= 1] [--zone MM > 0] [--log]\n");
+        fprintf(stderr, "usage: bench_nonlin MESH SCENE EDITS [--increments N >= 1] [--zone MM > 0] "
+                "[--log] [--linear] [--field PREFIX]\n");
         return 2;
     }
     kt_err e = {0};
@@ -129,7 +147,7 @@ int main(int argc, char **argv)
            "\tcoupling\tdK_mean_D\tmax_u_mm\n");
     double *u[2] = {NULL, NULL};
     int rc = 0;
-    for (int lin = 1; lin >= 0 && !rc; lin--) {
+    for (int lin = 1; lin >= only_linear && !rc; lin--) {
         kt_mesh m;
         if (kt_mesh_copy(&m, &p.mesh, &e)) break;
         kt_newton_opts o;
@@ -140,7 +158,8 @@ int main(int argc, char **argv)
         kt_newton_stats st;
         ksum post;
         rc = kt_newton_plan(&m, &p.fem, steps, nsteps, &o, &u[lin], &st, &e) ||
-             kerato(&m, mask, origin, u[lin], zone, &post, &e);
+             kerato(&m, mask, origin, u[lin], zone, &post, &e) ||
+             (field && write_field(field, lin ? "linear" : "newton", u[lin], m.nn, &e));
         if (!rc) {
             kt_alpins a;
             kt_curv_alpins(pre.astig, post.astig, NULL, &a);

@@ -18,7 +18,8 @@
  * (kt_fem_solve) fields agree to 1e-3 relative, and the difference is first order in the load
  * (halving the load halves it, within 10%); (d) Newton converges quadratically: in the last
  * increment of the alpha = 10 path, the last pair of relative residuals above the rounding floor
- * has log r_k+1 / log r_k >= 1.8. */
+ * has log r_k+1 / log r_k >= 1.8; (e) past the buckling load the indefinite tangent fails
+ * loudly. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -141,6 +142,34 @@ static double lin_gap(beam *B, double alpha)
     return sqrt(d / s);
 }
 
+/* Past the buckling load the straight path's tangent is indefinite: a compressive dead load of
+ * 3 P_cr (P_cr = pi^2 E I / (4 L^2), the clamped-free column) in 2 increments must fail loudly:
+ * KT_ERUN naming the non-positive pivot, after max_cuts cuts, having reached lambda near 1/3
+ * (P_cr) but not beyond 0.36 (the discrete P_cr is a little above the continuum's). */
+static void buckling(beam *B)
+{
+    size_t n = 3 * (size_t)B->m.nn;
+    double Pcr = M_PI * M_PI * YOUNG / 12.0 / (4 * LEN * LEN);
+    double *f = calloc(n, sizeof(double)), *u = calloc(n, sizeof(double));
+    for (size_t i = 0; i < n; i += 3) f[i] = 3 * Pcr * B->w[i + 2]; /* along -x */
+    kt_newton_problem p = {&B->m, &B->mats, B->fixed, NULL, f, 1, NULL};
+    kt_newton_opts o;
+    kt_newton_defaults(&o);
+    o.increments = 2;
+    o.max_cuts = 6;
+    kt_newton_stats st;
+    kt_err e = {0};
+    int rc = kt_newton_solve(&p, &o, u, &st, &e);
+    printf("compression 3 P_cr: rc %d, lambda reached %.4f, %d cuts: %s\n", rc, st.lambda,
+           st.cuts, e.msg);
+    CHECK(rc == KT_ERUN && strstr(e.msg, "not positive definite"), "expected a loud failure: %s",
+          e.msg);
+    CHECK(st.cuts == o.max_cuts + 1 && st.lambda > 0.25 && st.lambda < 0.36,
+          "cuts %d, lambda %.4f", st.cuts, st.lambda);
+    free(f);
+    free(u);
+}
+
 int main(void)
 {
     beam B;
@@ -148,6 +177,7 @@ int main(void)
     CHECK(beam_make(&B, &e) == KT_OK, "%s", e.msg);
     if (e.code) return kt_test_done("test_newton");
     printf("beam: %d nodes, %d P2 tets\n", B.m.nn, B.m.ne);
+    buckling(&B);
     elastica(&B, 2, 0.16064, 0.49346, 4);
     elastica(&B, 10, 0.55500, 0.81061, 10);
     double g1 = lin_gap(&B, 0.003), g2 = lin_gap(&B, 0.006);
