@@ -156,25 +156,11 @@ int kt_fem_tet_stiffness(int order, const double *x, kt_material mat, double *Ke
     int nv = kt_tet_nv(order);
     double lam = mat.E * mat.nu / ((1 + mat.nu) * (1 - 2 * mat.nu));
     double mu = mat.E / (2 * (1 + mat.nu));
-    /* det J below this is a flat (degenerate) element rather than a usable sliver */
-    double h = longest_edge(x), tiny = 1e-12 * h * h * h;
-    static const double CENTROID[1][3] = {{0.25, 0.25, 0.25}};
-    static const double W1[1] = {1.0 / 6};
-    kt_tet_rule rule = {1, CENTROID, W1}; /* P1: constant strain, one point is exact */
-    if (order == 2) {
-        if (is_straight(x)) rule = (kt_tet_rule){4, Q4_P, Q4_W};
-        else rule = (kt_tet_rule){14, Q14_P, Q14_W};
-    }
+    kt_tet_rule rule = kt_fem_rule(order, x);
     memset(Ke, 0, sizeof(double) * 9 * nv * nv);
-    double dN[10][3], g[10][3];
+    double g[10][3], det;
     for (int q = 0; q < rule.n; q++) {
-        shape_gradients(nv, rule.p[q], dN);
-        double det = physical_gradients(nv, x, dN, g);
-        if (!(det > tiny))
-            return kt_fail(e, KT_ERUN,
-                           "%s element: Jacobian determinant %.3g at quadrature point %d of %d "
-                           "(longest edge %.3g mm)",
-                           det < 0 ? "inverted" : "degenerate", det, q + 1, rule.n, h);
+        if (kt_fem_point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
         add_point(nv, g, rule.w[q] * det, lam, mu, Ke);
     }
     mirror(nv, Ke);
