@@ -130,9 +130,10 @@ int kt_fem_solve(const kt_mesh *m, const kt_materials *mats, const unsigned char
 int kt_fem_nl_element(const kt_mesh *m, const kt_materials *mats, int tet, const double *u,
                       double pscale, double *fe, double *Ke, kt_err *e);
 
-/* r (3*nn, overwritten) := the sum of the elements' fe at u. */
+/* r (3*nn, overwritten) := the sum of the elements' fe at u; rabs (may be NULL; 3*nn,
+ * overwritten) := the sum of their absolute values, the scale of r's rounding error. */
 int kt_fem_nl_residual(const kt_mesh *m, const kt_materials *mats, const double *u,
-                       double pscale, double *r, kt_err *e);
+                       double pscale, double *r, double *rabs, kt_err *e);
 
 /* The tangent at u, assembled and constrained as kt_fem_assemble does, and r (3*nn,
  * overwritten) := the residual at u as kt_fem_nl_residual. */

@@ -5,27 +5,32 @@
 #include "fem.h"
 #include "fem_int.h"
 
+#include <math.h>
 #include <string.h>
 
-/* F = I + sum_a u_a (x) g_a and the Green-Lagrange strain E (Voigt, engineering shears). */
+/* F = I + H, H = sum_a u_a (x) g_a, and the Green-Lagrange strain E = (H + H^T + H^T H) / 2
+ * (Voigt, engineering shears), formed from H: (F^T F - I) / 2 would lose the digits of a
+ * small strain to the cancellation against I (a rounding floor of eps / |E| relative). */
 static void deformation(int nv, double (*g)[3], const double *ue, double F[3][3], double E[6])
 {
+    double H[3][3];
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {
-            double s = i == j;
+            double s = 0;
             for (int a = 0; a < nv; a++) s += ue[3 * a + i] * g[a][j];
-            F[i][j] = s;
+            H[i][j] = s;
+            F[i][j] = (i == j) + s;
         }
-    double Cg[3][3]; /* F^T F */
+    double G[3][3]; /* H^T H */
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            Cg[i][j] = F[0][i] * F[0][j] + F[1][i] * F[1][j] + F[2][i] * F[2][j];
-    E[0] = 0.5 * (Cg[0][0] - 1);
-    E[1] = 0.5 * (Cg[1][1] - 1);
-    E[2] = 0.5 * (Cg[2][2] - 1);
-    E[3] = Cg[1][2];
-    E[4] = Cg[0][2];
-    E[5] = Cg[0][1];
+            G[i][j] = H[0][i] * H[0][j] + H[1][i] * H[1][j] + H[2][i] * H[2][j];
+    E[0] = H[0][0] + 0.5 * G[0][0];
+    E[1] = H[1][1] + 0.5 * G[1][1];
+    E[2] = H[2][2] + 0.5 * G[2][2];
+    E[3] = H[1][2] + H[2][1] + G[1][2];
+    E[4] = H[0][2] + H[2][0] + G[0][2];
+    E[5] = H[0][1] + H[1][0] + G[0][1];
 }
 
 int kt_fem_nl_element(const kt_mesh *m, const kt_materials *mats, int tet, const double *u,
@@ -75,18 +80,22 @@ int kt_fem_nl_element(const kt_mesh *m, const kt_materials *mats, int tet, const
 }
 
 int kt_fem_nl_residual(const kt_mesh *m, const kt_materials *mats, const double *u,
-                       double pscale, double *r, kt_err *e)
+                       double pscale, double *r, double *rabs, kt_err *e)
 {
     int nv = kt_tet_nv(m->order);
     double fe[30];
     memset(r, 0, 3 * (size_t)m->nn * sizeof(double));
+    if (rabs) memset(rabs, 0, 3 * (size_t)m->nn * sizeof(double));
     for (int el = 0; el < m->ne; el++) {
         kt_err le = {0};
         if (kt_fem_nl_element(m, mats, el, u, pscale, fe, NULL, &le))
             return kt_fail(e, le.code, "tet %d (region %d): %s", el + 1, m->tet_tag[el], le.msg);
         const int *t = m->tet + (size_t)el * nv;
         for (int a = 0; a < nv; a++)
-            for (int c = 0; c < 3; c++) r[3 * (size_t)t[a] + c] += fe[3 * a + c];
+            for (int c = 0; c < 3; c++) {
+                r[3 * (size_t)t[a] + c] += fe[3 * a + c];
+                if (rabs) rabs[3 * (size_t)t[a] + c] += fabs(fe[3 * a + c]);
+            }
     }
     return KT_OK;
 }

@@ -13,7 +13,7 @@ void kt_newton_defaults(kt_newton_opts *o)
     o->increments = 10;
     o->max_iter = 25;
     o->max_cuts = 12;
-    o->rtol = 1e-10;
+    o->rtol = 1e-12;
 }
 
 typedef struct work {
@@ -42,14 +42,23 @@ static void path_residual(const work *w, double lambda, double *r)
     }
 }
 
-/* The force scale of the convergence test: max(||f_int(u)||, ||lambda fdead||), all DOFs. */
-static int force_scale(work *w, const double *u, double lambda, double *scale, kt_err *e)
+/* The force scale of the convergence test: || sum_e |fe| + |lambda fdead| + |(1 - lambda) r0| ||
+ * over all DOFs at u, the size of the terms R sums (its rounding floor is about eps times it;
+ * ||f_int|| alone is no scale: at a small load it is as small as the floor of the terms that
+ * cancel into it). */
+static int force_scale(work *w, const double *u, double lambda, double ps, double *scale,
+                       kt_err *e)
 {
     const kt_newton_problem *p = w->p;
-    if (kt_fem_nl_residual(p->m, p->mats, u, 0.0, w->fint, e)) return e->code;
-    double s = norm2(w->fint, w->n);
-    if (p->fdead) s = fmax(s, fabs(lambda) * norm2(p->fdead, w->n));
-    *scale = s > 0 ? s : 1.0;
+    if (kt_fem_nl_residual(p->m, p->mats, u, ps, w->trial, w->fint, e)) return e->code;
+    double s = 0;
+    for (size_t i = 0; i < w->n; i++) {
+        double a = w->fint[i];
+        if (p->fdead) a += fabs(lambda * p->fdead[i]);
+        if (p->r0) a += fabs((1 - lambda) * p->r0[i]);
+        s += a * a;
+    }
+    *scale = s > 0 ? sqrt(s) : 1.0;
     return KT_OK;
 }
 
@@ -66,7 +75,7 @@ static int trial_slope(work *w, const double *u, double alpha, double lambda, do
                        double *s, kt_err *e)
 {
     for (size_t i = 0; i < w->n; i++) w->trial[i] = u[i] + alpha * w->du[i];
-    if (kt_fem_nl_residual(w->p->m, w->p->mats, w->trial, ps, w->r, e)) return e->code;
+    if (kt_fem_nl_residual(w->p->m, w->p->mats, w->trial, ps, w->r, NULL, e)) return e->code;
     path_residual(w, lambda, w->r);
     *s = dot(w->du, w->r, w->n);
     return KT_OK;
@@ -111,7 +120,7 @@ static int increment(work *w, double lambda, double *u, const kt_newton_opts *o,
         kt_err le = {0};
         cholmod_sparse *K = kt_fem_nl_assemble(p->m, p->mats, u, ps, p->fixed, w->r, w->c, &le);
         double scale = 0;
-        if (!K || force_scale(w, u, lambda, &scale, &le)) {
+        if (!K || force_scale(w, u, lambda, ps, &scale, &le)) {
             cholmod_free_sparse(&K, w->c);
             snprintf(cause, csz, "%.280s", le.msg);
             return 1;

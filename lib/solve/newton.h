@@ -14,14 +14,17 @@ typedef struct kt_newton_opts {
     int increments; /* equal load increments to start with (>= 1) */
     int max_iter;   /* Newton iterations in one increment before it is cut */
     int max_cuts;   /* increment halvings allowed over the whole path */
-    double rtol;    /* converged when ||R_free|| <= rtol * max(||f_int||, ||lambda fdead||) */
+    double rtol;    /* converged when ||R_free|| <= rtol * the size of the terms R sums (the
+                     * norm of sum_e |f_e| + |lambda fdead| + |(1 - lambda) r0|, f_e the
+                     * elements' forces, fixed DOFs included): R's rounding floor is a small
+                     * multiple of eps times that */
     FILE *log;      /* one line per iteration and per cut, or NULL */
     int linear;     /* 1: one increment, one full step from u = 0 and return: the linear answer
                      * about the start, K_T(0) u = -R(0, 1) (what the constant-tangent methods
                      * solve); for comparisons with the same assembly */
 } kt_newton_opts;
 
-/* 10 increments, 25 iterations, 12 cuts, rtol 1e-10, no log, not linear. */
+/* 10 increments, 25 iterations, 12 cuts, rtol 1e-12, no log, not linear. */
 void kt_newton_defaults(kt_newton_opts *o);
 
 /* The load path, lambda from 0 to 1:

@@ -75,7 +75,7 @@ int kt_newton_plan(kt_mesh *m, const kt_fem_problem *fp, const kt_step *steps, i
     int prestressed = td.sig != NULL;
     if (prestressed) {
         r0 = kt_calloc(n, sizeof(double), e);
-        if (!r0 || kt_fem_nl_residual(m, &mats, *u, 1.0, r0, e)) goto done;
+        if (!r0 || kt_fem_nl_residual(m, &mats, *u, 1.0, r0, NULL, e)) goto done;
     }
     kt_newton_problem p = {m, &mats, fixed, g, f, !prestressed, r0};
     kt_newton_solve(&p, o, *u, st, e);

@@ -104,8 +104,8 @@ static void elastica(beam *B, double alpha, double ux_ref, double uz_ref, int in
         printf("residuals of the last increment:");
         for (int k = 0; k < st.nres; k++) printf(" %.3e", st.res[k]);
         printf("\n");
-        /* the last pair above the rounding floor (about 1e-12 of ||f_int|| on this slender
-         * beam): log r_k+1 / log r_k is 2 for quadratic convergence with a constant near 1
+        /* the last pair above 1e-10, well above the rounding floor (near 1e-15: residuals are
+         * relative to the size of the element forces, newton.h): log r_k+1 / log r_k is 2 for quadratic convergence with a constant near 1
          * (more with a smaller one) and below 1.2 for linear convergence at rate 0.3 from
          * r_k <= 1e-3 */
         double order = 0;

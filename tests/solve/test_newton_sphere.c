@@ -181,7 +181,7 @@ static double inflate(double T)
     printf("  residuals of the last increment:");
     for (int k = 0; k < st.nres; k++) printf(" %.3e", st.res[k]);
     printf("\n");
-    /* as in test_newton: the last pair above 1e-10 (the floor here is 1e-13 to 1e-11) */
+    /* as in test_newton: the last pair above 1e-10 (the rounding floor is near 1e-15) */
     double order = 0;
     for (int k = 0; k + 1 < st.nres; k++)
         if (st.res[k + 1] >= 1e-10 && st.res[k] < 0.5) order = log(st.res[k + 1]) / log(st.res[k]);
