@@ -2,6 +2,7 @@
  * fibre, prestress stiffening, pressure load stiffness), release loads and element stresses.
  * Assembly is in fem_assemble.c, Dirichlet lifting and the direct solve in fem_solve.c. */
 #include "fem.h"
+#include "fem_int.h"
 
 #include <limits.h>
 #include <math.h>
@@ -12,14 +13,6 @@
 #include "topology.h"
 
 /* ---------------------------------------------------------------- quadrature */
-
-/* A rule on the reference tet (0,0,0) (1,0,0) (0,1,0) (0,0,1): points (xi, eta, zeta) and
- * weights summing to its volume 1/6. */
-typedef struct tet_rule {
-    int n;
-    const double (*p)[3];
-    const double *w;
-} tet_rule;
 
 /* 4 points, degree 2: exact for the P2 stiffness of a straight-sided tet. */
 #define R4A 0.58541019662496845 /* (5 + 3 sqrt 5) / 20 */
@@ -163,25 +156,11 @@ int kt_fem_tet_stiffness(int order, const double *x, kt_material mat, double *Ke
     int nv = kt_tet_nv(order);
     double lam = mat.E * mat.nu / ((1 + mat.nu) * (1 - 2 * mat.nu));
     double mu = mat.E / (2 * (1 + mat.nu));
-    /* det J below this is a flat (degenerate) element rather than a usable sliver */
-    double h = longest_edge(x), tiny = 1e-12 * h * h * h;
-    static const double CENTROID[1][3] = {{0.25, 0.25, 0.25}};
-    static const double W1[1] = {1.0 / 6};
-    tet_rule rule = {1, CENTROID, W1}; /* P1: constant strain, one point is exact */
-    if (order == 2) {
-        if (is_straight(x)) rule = (tet_rule){4, Q4_P, Q4_W};
-        else rule = (tet_rule){14, Q14_P, Q14_W};
-    }
+    kt_tet_rule rule = kt_fem_rule(order, x);
     memset(Ke, 0, sizeof(double) * 9 * nv * nv);
-    double dN[10][3], g[10][3];
+    double g[10][3], det;
     for (int q = 0; q < rule.n; q++) {
-        shape_gradients(nv, rule.p[q], dN);
-        double det = physical_gradients(nv, x, dN, g);
-        if (!(det > tiny))
-            return kt_fail(e, KT_ERUN,
-                           "%s element: Jacobian determinant %.3g at quadrature point %d of %d "
-                           "(longest edge %.3g mm)",
-                           det < 0 ? "inverted" : "degenerate", det, q + 1, rule.n, h);
+        if (kt_fem_point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
         add_point(nv, g, rule.w[q] * det, lam, mu, Ke);
     }
     mirror(nv, Ke);
@@ -192,13 +171,13 @@ int kt_fem_tet_stiffness(int order, const double *x, kt_material mat, double *Ke
 
 /* The rule the element stiffness uses for this element (P1: centroid; P2: 4 points straight,
  * 14 curved). */
-static tet_rule element_rule(int order, const double *x)
+kt_tet_rule kt_fem_rule(int order, const double *x)
 {
     static const double CENTROID[1][3] = {{0.25, 0.25, 0.25}};
     static const double W1[1] = {1.0 / 6};
-    if (order == 1) return (tet_rule){1, CENTROID, W1};
-    if (is_straight(x)) return (tet_rule){4, Q4_P, Q4_W};
-    return (tet_rule){14, Q14_P, Q14_W};
+    if (order == 1) return (kt_tet_rule){1, CENTROID, W1};
+    if (is_straight(x)) return (kt_tet_rule){4, Q4_P, Q4_W};
+    return (kt_tet_rule){14, Q14_P, Q14_W};
 }
 
 void kt_fem_iso_matrix(double E, double nu, double C[36])
@@ -259,27 +238,26 @@ void kt_fem_fibre_matrix(const kt_fibre_material *mat, const double a1[3], const
     if (Ec > 0) add_fibre(C, c, Ec);
 }
 
-/* B (6 x 3nv) of the physical gradients g, engineering shear strains. */
-static void strain_matrix(int nv, double (*g)[3], double *B)
+/* B (6 x 3nv): row p, column 3a+i = d E_p / d u_ai of the Green-Lagrange strain (Voigt,
+ * engineering shears) at deformation gradient F: F_ik g_ak for p = (k,k), F_ik g_al + F_il g_ak
+ * for p = (k,l). F = NULL is the identity: the small-strain B of the linear kernels. */
+void kt_fem_strain_matrix(int nv, double (*g)[3], const double (*F)[3], double *B)
 {
+    static const int I[6][2] = {{0, 0}, {1, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}};
+    static const double ID[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    if (!F) F = ID;
     int ld = 3 * nv;
-    memset(B, 0, sizeof(double) * 6 * ld);
-    for (int a = 0; a < nv; a++) {
-        double *b = B + 3 * a;
-        b[0 * ld + 0] = g[a][0];
-        b[1 * ld + 1] = g[a][1];
-        b[2 * ld + 2] = g[a][2];
-        b[3 * ld + 1] = g[a][2];
-        b[3 * ld + 2] = g[a][1];
-        b[4 * ld + 0] = g[a][2];
-        b[4 * ld + 2] = g[a][0];
-        b[5 * ld + 0] = g[a][1];
-        b[5 * ld + 1] = g[a][0];
+    for (int p = 0; p < 6; p++) {
+        int k = I[p][0], l = I[p][1];
+        for (int a = 0; a < nv; a++)
+            for (int i = 0; i < 3; i++)
+                B[p * ld + 3 * a + i] =
+                    k == l ? F[i][k] * g[a][k] : F[i][k] * g[a][l] + F[i][l] * g[a][k];
     }
 }
 
 /* Ke += w B^T C B. */
-static void add_btcb(int nv, const double *B, const double *C, double w, double *Ke)
+void kt_fem_add_btcb(int nv, const double *B, const double *C, double w, double *Ke)
 {
     int ld = 3 * nv;
     double CB[6 * 30];
@@ -298,7 +276,7 @@ static void add_btcb(int nv, const double *B, const double *C, double w, double 
 }
 
 /* Ke(3a+i, 3b+i) += w g_a . sig g_b: the stress stiffness of a prestress sig (Voigt). */
-static void add_sigma(int nv, double (*g)[3], const double *sig, double w, double *Ke)
+void kt_fem_add_sigma(int nv, double (*g)[3], const double *sig, double w, double *Ke)
 {
     int ld = 3 * nv;
     double S[3][3];
@@ -336,23 +314,28 @@ static int face_nodes(int nv, int f, const double *x, int *loc)
     return 6;
 }
 
-/* Ke -= sym(K_p) of a follower pressure p on local face f. */
-static void add_face_load(int order, int nv, const double *x, int f, double p, double *Ke)
+void kt_fem_add_face_load(int order, const double *X, const double *x, int f, double p,
+                          double *Ke, double *fe)
 {
-    int loc[6], fv = face_nodes(nv, f, x, loc), ld = 3 * nv, lf = 3 * fv;
+    int nv = kt_tet_nv(order), loc[6], fv = face_nodes(nv, f, X, loc), ld = 3 * nv, lf = 3 * fv;
     double xf[18], Kf[324];
     for (int a = 0; a < fv; a++) memcpy(xf + 3 * a, x + 3 * loc[a], 3 * sizeof(double));
     kt_fem_face_load_stiffness(order, xf, p, Kf);
     for (int a = 0; a < fv; a++)
-        for (int b = 0; b < fv; b++)
-            for (int i = 0; i < 3; i++)
+        for (int i = 0; i < 3; i++) {
+            /* f_face = Kf xf / 2: the pressure force is homogeneous of degree 2 in xf */
+            double fa = 0;
+            for (int r = 0; r < lf; r++) fa += Kf[(3 * a + i) * lf + r] * xf[r];
+            if (fe) fe[3 * loc[a] + i] -= 0.5 * fa;
+            for (int b = 0; b < fv && Ke; b++)
                 for (int j = 0; j < 3; j++) {
                     double k = 0.5 * (Kf[(3 * a + i) * lf + 3 * b + j] + Kf[(3 * b + j) * lf + 3 * a + i]);
                     Ke[(3 * loc[a] + i) * ld + 3 * loc[b] + j] -= k;
                 }
+        }
 }
 
-static void gather_x(const kt_mesh *m, int tet, double *x)
+void kt_fem_gather_x(const kt_mesh *m, int tet, double *x)
 {
     int nv = kt_tet_nv(m->order);
     const int *t = m->tet + (size_t)tet * nv;
@@ -360,7 +343,7 @@ static void gather_x(const kt_mesh *m, int tet, double *x)
 }
 
 /* The element's C (td->C or the region's isotropic one). */
-static int element_C(const kt_mesh *m, const kt_materials *mats, int tet, double C[36], kt_err *e)
+int kt_fem_element_C(const kt_mesh *m, const kt_materials *mats, int tet, double C[36], kt_err *e)
 {
     if (mats->td && mats->td->C) {
         memcpy(C, mats->td->C + 36 * (size_t)tet, 36 * sizeof(double));
@@ -373,7 +356,7 @@ static int element_C(const kt_mesh *m, const kt_materials *mats, int tet, double
 }
 
 /* Physical gradients at quadrature point q of the element rule, with a degeneracy check. */
-static int point_gradients(int nv, const double *x, const tet_rule *rule, int q, double (*g)[3],
+int kt_fem_point_gradients(int nv, const double *x, const kt_tet_rule *rule, int q, double (*g)[3],
                            double *det, kt_err *e)
 {
     double dN[10][3], h = longest_edge(x), tiny = 1e-12 * h * h * h;
@@ -391,24 +374,24 @@ int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *
 {
     int nv = kt_tet_nv(m->order), ld = 3 * nv;
     double x[30];
-    gather_x(m, tet, x);
+    kt_fem_gather_x(m, tet, x);
     const kt_fem_tetdata *td = mats->td;
     if (!td) return kt_fem_tet_stiffness(m->order, x, mats->mat[m->tet_tag[tet]], Ke, e);
     double C[36], B[6 * 30], g[10][3], det;
-    if (element_C(m, mats, tet, C, e)) return e->code;
-    tet_rule rule = element_rule(m->order, x);
+    if (kt_fem_element_C(m, mats, tet, C, e)) return e->code;
+    kt_tet_rule rule = kt_fem_rule(m->order, x);
     memset(Ke, 0, sizeof(double) * ld * ld);
     for (int q = 0; q < rule.n; q++) {
-        if (point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
-        strain_matrix(nv, g, B);
-        add_btcb(nv, B, C, rule.w[q] * det, Ke);
+        if (kt_fem_point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
+        kt_fem_strain_matrix(nv, g, NULL, B);
+        kt_fem_add_btcb(nv, B, C, rule.w[q] * det, Ke);
         if (td->sig)
-            add_sigma(nv, g, td->sig + ((size_t)tet * KT_FEM_NQ + q) * 6, rule.w[q] * det, Ke);
+            kt_fem_add_sigma(nv, g, td->sig + ((size_t)tet * KT_FEM_NQ + q) * 6, rule.w[q] * det, Ke);
     }
     if (td->pface)
         for (int f = 0; f < 4; f++) {
             double p = td->pface[4 * (size_t)tet + f];
-            if (p != 0) add_face_load(m->order, nv, x, f, p, Ke);
+            if (p != 0) kt_fem_add_face_load(m->order, x, x, f, p, Ke, NULL);
         }
     return KT_OK;
 }
@@ -420,11 +403,11 @@ int kt_fem_element_release(const kt_mesh *m, const kt_materials *mats, int tet, 
     memset(fe, 0, sizeof(double) * ld);
     if (!mats->td || !mats->td->sig) return KT_OK;
     double x[30], B[6 * 30], g[10][3], det;
-    gather_x(m, tet, x);
-    tet_rule rule = element_rule(m->order, x);
+    kt_fem_gather_x(m, tet, x);
+    kt_tet_rule rule = kt_fem_rule(m->order, x);
     for (int q = 0; q < rule.n; q++) {
-        if (point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
-        strain_matrix(nv, g, B);
+        if (kt_fem_point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
+        kt_fem_strain_matrix(nv, g, NULL, B);
         const double *sig = mats->td->sig + ((size_t)tet * KT_FEM_NQ + q) * 6;
         for (int r = 0; r < ld; r++) {
             double s = 0;
@@ -455,16 +438,16 @@ int kt_fem_stress(const kt_mesh *m, const kt_materials *mats, const double *u, d
     int nv = kt_tet_nv(m->order), ld = 3 * nv;
     double x[30], ue[30], C[36], B[6 * 30], g[10][3], det;
     for (int el = 0; el < m->ne; el++) {
-        gather_x(m, el, x);
+        kt_fem_gather_x(m, el, x);
         const int *t = m->tet + (size_t)el * nv;
         for (int a = 0; a < nv; a++) memcpy(ue + 3 * a, u + 3 * (size_t)t[a], 3 * sizeof(double));
-        if (element_C(m, mats, el, C, e)) return e->code;
-        tet_rule rule = element_rule(m->order, x);
+        if (kt_fem_element_C(m, mats, el, C, e)) return e->code;
+        kt_tet_rule rule = kt_fem_rule(m->order, x);
         double *s_el = sig + (size_t)el * KT_FEM_NQ * 6;
         memset(s_el, 0, sizeof(double) * KT_FEM_NQ * 6);
         for (int q = 0; q < rule.n; q++) {
-            if (point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
-            strain_matrix(nv, g, B);
+            if (kt_fem_point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
+            kt_fem_strain_matrix(nv, g, NULL, B);
             double eps[6];
             for (int p = 0; p < 6; p++) {
                 eps[p] = 0;

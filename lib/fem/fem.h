@@ -121,6 +121,32 @@ int kt_fem_lift(const cholmod_sparse *K, const unsigned char *fixed, const doubl
 int kt_fem_solve(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
                  const double *g, const double *f, double *u, cholmod_common *c, kt_err *e);
 
+/* ------------------------------------------------ total Lagrangian (nonlinear) kernels
+ * The same element data read as a geometrically nonlinear problem: displacement u (3*nn) from the
+ * mesh's coordinates X (the reference); F = I + du/dX, the Green-Lagrange strain
+ * E = (F^T F - I) / 2 and the second Piola-Kirchhoff stress S = sig + C : E (St Venant-Kirchhoff
+ * with the element's C, in whatever frame C was built in: the lamellar one for fibre tets; sig
+ * = td->sig, the prestress, read as the initial S of the reference); follower pressures
+ * pscale * td->pface on the faces in their current position. At u = 0 and pscale = 1 the tangent
+ * is kt_fem_element's and the residual is -(kt_fem_element_release) - the pressure forces. */
+
+/* Element residual fe (3nv) = int B(F)^T S dV - f_pressure(X + u) (no dead loads), and the
+ * tangent Ke (3nv x 3nv, row-major, may be NULL) = int B^T C B dV + int g_a . S g_b dV (the
+ * geometric stiffness) - sym(d f_pressure / d u). */
+int kt_fem_nl_element(const kt_mesh *m, const kt_materials *mats, int tet, const double *u,
+                      double pscale, double *fe, double *Ke, kt_err *e);
+
+/* r (3*nn, overwritten) := the sum of the elements' fe at u; rabs (may be NULL; 3*nn,
+ * overwritten) := the sum of their absolute values, the scale of r's rounding error. */
+int kt_fem_nl_residual(const kt_mesh *m, const kt_materials *mats, const double *u,
+                       double pscale, double *r, double *rabs, kt_err *e);
+
+/* The tangent at u, assembled and constrained as kt_fem_assemble does, and r (3*nn,
+ * overwritten) := the residual at u as kt_fem_nl_residual. */
+cholmod_sparse *kt_fem_nl_assemble(const kt_mesh *m, const kt_materials *mats, const double *u,
+                                   double pscale, const unsigned char *fixed, double *r,
+                                   cholmod_common *c, kt_err *e);
+
 /* KT_EINPUT unless E > 0 (finite) and -1 < nu < 0.5. */
 int kt_fem_check_material(kt_material mat, kt_err *e);
 

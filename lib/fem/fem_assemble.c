@@ -173,17 +173,29 @@ static void scatter(const node_pattern *P, const int *t, int nv, const double *K
         }
 }
 
-static int add_elements(const kt_mesh *m, const kt_materials *mats, const node_pattern *P,
-                        cholmod_sparse *A, kt_err *e)
+/* The total Lagrangian state to assemble at (NULL: the linear tangent of kt_fem_element). */
+typedef struct nl_state {
+    const double *u;
+    double pscale;
+    double *r; /* 3*nn: the residual, summed here */
+} nl_state;
+
+static int add_elements(const kt_mesh *m, const kt_materials *mats, nl_state *nl,
+                        const node_pattern *P, cholmod_sparse *A, kt_err *e)
 {
     int nv = kt_tet_nv(m->order);
-    double Ke[900];
+    double Ke[900], fe[30];
+    if (nl) memset(nl->r, 0, 3 * (size_t)m->nn * sizeof(double));
     for (int el = 0; el < m->ne; el++) {
         const int *t = m->tet + (size_t)el * nv;
         kt_err le = {0};
-        if (kt_fem_element(m, mats, el, Ke, &le))
+        if (nl ? kt_fem_nl_element(m, mats, el, nl->u, nl->pscale, fe, Ke, &le)
+               : kt_fem_element(m, mats, el, Ke, &le))
             return kt_fail(e, le.code, "tet %d (region %d): %s", el + 1, m->tet_tag[el], le.msg);
         scatter(P, t, nv, Ke, A);
+        if (nl)
+            for (int a = 0; a < nv; a++)
+                for (int c = 0; c < 3; c++) nl->r[3 * (size_t)t[a] + c] += fe[3 * a + c];
     }
     return KT_OK;
 }
@@ -211,7 +223,7 @@ void kt_fem_apply_fixed(cholmod_sparse *A, const unsigned char *fixed)
     Ap[n] = q;
 }
 
-cholmod_sparse *kt_fem_assemble(const kt_mesh *m, const kt_materials *mats,
+static cholmod_sparse *assemble(const kt_mesh *m, const kt_materials *mats, nl_state *nl,
                                 const unsigned char *fixed, cholmod_common *c, kt_err *e)
 {
     if (check_inputs(m, mats, e)) return NULL;
@@ -232,7 +244,7 @@ cholmod_sparse *kt_fem_assemble(const kt_mesh *m, const kt_materials *mats,
     }
     fill_structure(m, &P, A);
     memset(A->x, 0, nnz * sizeof(double));
-    int rc = add_elements(m, mats, &P, A, e);
+    int rc = add_elements(m, mats, nl, &P, A, e);
     pattern_free(&P);
     if (rc) {
         cholmod_free_sparse(&A, c);
@@ -245,3 +257,17 @@ cholmod_sparse *kt_fem_assemble(const kt_mesh *m, const kt_materials *mats,
     return A;
 }
 
+
+cholmod_sparse *kt_fem_assemble(const kt_mesh *m, const kt_materials *mats,
+                                const unsigned char *fixed, cholmod_common *c, kt_err *e)
+{
+    return assemble(m, mats, NULL, fixed, c, e);
+}
+
+cholmod_sparse *kt_fem_nl_assemble(const kt_mesh *m, const kt_materials *mats, const double *u,
+                                   double pscale, const unsigned char *fixed, double *r,
+                                   cholmod_common *c, kt_err *e)
+{
+    nl_state nl = {u, pscale, r};
+    return assemble(m, mats, &nl, fixed, c, e);
+}
