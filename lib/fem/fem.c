@@ -470,11 +470,11 @@ int kt_fem_prestress_mean(const kt_mesh *m, const kt_materials *mats, int tet, d
     if (!mats->td || !mats->td->sig) return KT_OK;
     int nv = kt_tet_nv(m->order);
     double x[30], g[10][3], det, vol = 0;
-    gather_x(m, tet, x);
-    tet_rule rule = element_rule(m->order, x);
+    kt_fem_gather_x(m, tet, x);
+    kt_tet_rule rule = kt_fem_rule(m->order, x);
     const double *sig = mats->td->sig + (size_t)tet * KT_FEM_NQ * 6;
     for (int q = 0; q < rule.n; q++) {
-        if (point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
+        if (kt_fem_point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
         vol += rule.w[q] * det;
         for (int p = 0; p < 6; p++) mean[p] += rule.w[q] * det * sig[6 * q + p];
     }
