@@ -81,6 +81,7 @@ done
 command -v gnuplot >/dev/null || echo "bench: gnuplot not found: tables only, no plots" >&2
 
 PL=$ROOT/plans
+PB=$ROOT/plans/bench   # the benchmark scenes and plans (beams, bricks, bunny, liver)
 GP=$ROOT/tests/bench
 MESHES=$R/meshes
 EDITS=$R/edits
@@ -270,9 +271,9 @@ fi
 # beam/brick meshes and edits, cached.
 prep_box() { # beam|brick SIZE
     local m=$1 s=$2
-    mesh "$PL/$m-$s.yaml" "$MESHES/$m-$s.msh" || return 1
-    cut_edits "$PL/cut-$m-$s.yaml" "$MESHES/$m-$s.msh" "$EDITS/cut-$m-$s.edits"
-    cut_edits "$PL/deform-$m-$s.yaml" "$MESHES/$m-$s.msh" "$EDITS/deform-$m-$s.edits"
+    mesh "$PB/$m-$s.yaml" "$MESHES/$m-$s.msh" || return 1
+    cut_edits "$PB/cut-$m-$s.yaml" "$MESHES/$m-$s.msh" "$EDITS/cut-$m-$s.edits"
+    cut_edits "$PB/deform-$m-$s.yaml" "$MESHES/$m-$s.msh" "$EDITS/deform-$m-$s.edits"
     return 0
 }
 
@@ -282,15 +283,15 @@ prep_eye() {
 }
 
 prep_bunny() {
-    mesh "$PL/bunny.yaml" "$MESHES/bunny.msh" || return 1
+    mesh "$PB/bunny.yaml" "$MESHES/bunny.msh" || return 1
     # the bunny has no surface on the cutting plane: cutplan snaps and writes the mesh it cut
     if [ ! -s "$EDITS/cut-bunny.edits" ] || [ "$MESHES/bunny.msh" -nt "$EDITS/cut-bunny.edits" ] ||
-        [ "$B/cutplan" -nt "$EDITS/cut-bunny.edits" ] || [ "$PL/cut-bunny.yaml" -nt "$EDITS/cut-bunny.edits" ]; then
-        run cut-bunny "$T_MESH" "$B/cutplan" "$PL/cut-bunny.yaml" "$MESHES/bunny.msh" \
+        [ "$B/cutplan" -nt "$EDITS/cut-bunny.edits" ] || [ "$PB/cut-bunny.yaml" -nt "$EDITS/cut-bunny.edits" ]; then
+        run cut-bunny "$T_MESH" "$B/cutplan" "$PB/cut-bunny.yaml" "$MESHES/bunny.msh" \
             -o "$EDITS/cut-bunny.edits" --mesh-out "$MESHES/bunny-snapped.msh" -q && return 0
         # refused (snapping would invert a tet on this mesh): the same plan snapping less
         log "  the shipped cut-bunny plan was refused; using snap.fraction 0.15 (scenes/cut-bunny-snap0.15.yaml)"
-        derive "$PL/cut-bunny.yaml" "$SCN/cut-bunny-snap0.15.yaml" -e "s|^scene: .*|scene: $PL/bunny.yaml|" \
+        derive "$PB/cut-bunny.yaml" "$SCN/cut-bunny-snap0.15.yaml" -e "s|^scene: .*|scene: $PB/bunny.yaml|" \
             -e "s|^  fraction: .*|  fraction: 0.15|"
         run cut-bunny-snap0.15 "$T_MESH" "$B/cutplan" "$SCN/cut-bunny-snap0.15.yaml" "$MESHES/bunny.msh" \
             -o "$EDITS/cut-bunny.edits" --mesh-out "$MESHES/bunny-snapped.msh" -q
@@ -319,10 +320,11 @@ part_bandwidth() {
         m=${c%%:*} set=${c#*:}
         case $m in
             eye) prep_eye ;;
-            bunny) mesh "$PL/bunny.yaml" "$MESHES/bunny.msh" ;;
-            *) mesh "$PL/$m.yaml" "$MESHES/$m.msh" ;;
+            bunny) mesh "$PB/bunny.yaml" "$MESHES/bunny.msh" ;;
+            *) mesh "$PB/$m.yaml" "$MESHES/$m.msh" ;;
         esac || continue
-        local scene=$PL/$m.yaml
+        local scene=$PB/$m.yaml
+        [ "$m" = eye ] && scene=$PL/eye.yaml
         local args=(--sample 40 --spread 40 --reps 5 --tag "$m")
         [ "$set" != - ] && args+=(--set "$set")
         log "  solves on $m"
@@ -650,7 +652,7 @@ part_ordering() {
     printf 'model\tordering\tnodes\tnnz_L\tflops\tetree_height\tclosure_mean\tclosure_max\tclosure_set\tfactor_ms\tfull_solve_ms\tset_closure_solve_ms\tsteps\taug_ms_median\taug_ms_max\tclosure_max_median\tgmres_iters_max\taug_status\n' >"$D/ordering.tsv"
     local beam=$ORD_BEAM cases=""
     [ $WITH_EYE = 1 ] && cases="eye:$PL/eye.yaml:$PL/lri-paired-60.yaml:incision-ring-1"
-    cases="$cases beam-$beam:$PL/beam-$beam.yaml:$PL/cut-beam-$beam.yaml:zmax"
+    cases="$cases beam-$beam:$PB/beam-$beam.yaml:$PB/cut-beam-$beam.yaml:zmax"
     for c in $cases; do
         set -- ${c//:/ }
         model=$1 scene=$2 plan=$3 set=$4
@@ -917,7 +919,7 @@ part_stability() {
         if [ "$FULL" != 1 ]; then truncate_edits "$EDITS/lri-eye.edits" "$EDITS/lri-eye-4.edits" 4; eyed=$EDITS/lri-eye-4.edits; fi
     fi
     for nu in 0.3 0.45 0.49 0.499 0.4999; do
-        derive "$PL/beam-$nb.yaml" "$SCN/beam-$nb-nu$nu.yaml" -e "s/nu: 0\.3}/nu: $nu}/"
+        derive "$PB/beam-$nb.yaml" "$SCN/beam-$nb-nu$nu.yaml" -e "s/nu: 0\.3}/nu: $nu}/"
         stab_case nu-beam-$nb "$nu" "$MESHES/beam-$nb.msh" "$EDITS/cut-beam-$nb.edits" "$SCN/beam-$nb-nu$nu.yaml"
         [ $WITH_EYE = 1 ] || continue
         derive "$PL/eye.yaml" "$SCN/eye-nu$nu.yaml" -e "s/nu: 0\.49}/nu: $nu}/"
@@ -926,7 +928,7 @@ part_stability() {
     # long beams (the paper: condition numbers up to 3.3e12 at h = 1024)
     for s in $LONG_BEAMS; do
         prep_box beam "$s" || continue
-        stab_case beam-length "$s" "$MESHES/beam-$s.msh" "$EDITS/cut-beam-$s.edits" "$PL/beam-$s.yaml"
+        stab_case beam-length "$s" "$MESHES/beam-$s.msh" "$EDITS/cut-beam-$s.edits" "$PB/beam-$s.yaml"
     done
     # region stiffness contrast: sclera / cornea = 1 ... 1e6 (limbus at the geometric mean)
     for c in 1 1e2 1e4 1e6; do
@@ -948,13 +950,13 @@ part_stability() {
         local tag=${c%%:*} rest=${c#*:} fr mq nrm
         fr=${rest%%:*} rest=${rest#*:} mq=${rest%%:*} nrm=${rest#*:}
         local pl=$SCN/cut-brick-8-$tag.yaml
-        derive "$PL/cut-brick-8.yaml" "$pl" -e "s|^scene: .*|scene: $PL/brick-8.yaml|" \
+        derive "$PB/cut-brick-8.yaml" "$pl" -e "s|^scene: .*|scene: $PB/brick-8.yaml|" \
             -e "s|^  point: .*|  point: [0.53 mm, 0 mm, 0 mm]|" -e "s|^  normal: .*|  normal: [$nrm]|" \
             -e "\$a snap:\n  fraction: $fr\n  min_quality: $mq" -e "/^  pull_surface:/d"
         if [ -n "$CASES" ] && ! [[ "slivers-brick-8-$tag" =~ $CASES ]]; then continue; fi
         if run "cut-brick-8-$tag" "$T_MESH" "$B/cutplan" "$pl" "$MESHES/brick-8.msh" -o "$EDITS/cut-brick-8-$tag.edits" \
             --mesh-out "$MESHES/brick-8-$tag.msh" -q; then
-            stab_case slivers-brick-8 "$tag" "$MESHES/brick-8-$tag.msh" "$EDITS/cut-brick-8-$tag.edits" "$PL/brick-8.yaml"
+            stab_case slivers-brick-8 "$tag" "$MESHES/brick-8-$tag.msh" "$EDITS/cut-brick-8-$tag.edits" "$PB/brick-8.yaml"
         else
             printf 'slivers-brick-8\t%s\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tcutplan-refused\t%s\n' \
                 "$tag" "$(tail -n 1 "$LOGS/cut-brick-8-$tag.err" | cut -c1-160)" >>"$ST"
@@ -972,15 +974,15 @@ part_stability() {
     fi
     # >= 5,000 duplicated nodes: the 5x5x1024 beam split along 1000 mm, 50 rows a step
     [ $WITH_DUP = 1 ] && prep_box beam 1024 &&
-    derive "$PL/cut-beam-1024.yaml" "$SCN/cut-beam-1024-long.yaml" -e "s|^scene: .*|scene: $PL/beam-1024.yaml|" \
+    derive "$PB/cut-beam-1024.yaml" "$SCN/cut-beam-1024-long.yaml" -e "s|^scene: .*|scene: $PB/beam-1024.yaml|" \
         -e "s|^  length: .*|  length: 1000 mm|" -e "s|^  nodes_per_step: .*|  nodes_per_step: 250|"
     if [ $WITH_DUP = 1 ] && cut_edits "$SCN/cut-beam-1024-long.yaml" "$MESHES/beam-1024.msh" "$EDITS/cut-beam-1024-long.edits"; then
-        stab_case dup5000-beam-1024 default "$MESHES/beam-1024.msh" "$EDITS/cut-beam-1024-long.edits" "$PL/beam-1024.yaml"
+        stab_case dup5000-beam-1024 default "$MESHES/beam-1024.msh" "$EDITS/cut-beam-1024-long.edits" "$PB/beam-1024.yaml"
         stab_case dup5000-beam-1024 "refactor-m>3000" "$MESHES/beam-1024.msh" "$EDITS/cut-beam-1024-long.edits" \
-            "$PL/beam-1024.yaml" --refactor 'm>3000' --refactor-sync
+            "$PB/beam-1024.yaml" --refactor 'm>3000' --refactor-sync
         # what the failure message advises on this cond ~ 1e12 beam: a looser tolerance
         stab_case dup5000-beam-1024 "tol1e-6" "$MESHES/beam-1024.msh" "$EDITS/cut-beam-1024-long.edits" \
-            "$PL/beam-1024.yaml" --tol 1e-6
+            "$PB/beam-1024.yaml" --tol 1e-6
     fi
     column -t -s $'\t' "$ST" >&2
 }
