@@ -17,7 +17,6 @@
 #include "eye_geom.h"
 #include "topology.h"
 
-#define PI 3.14159265358979323846
 #define RING_STUB 0.1 /* mm: how far a ring's construction segment starts outside the eye */
 
 
@@ -130,7 +129,7 @@ static int revolve(eye_build *b, int dim, int tag)
 {
     int in[2] = {dim, tag}, *out = NULL, ierr = 0, res = -1;
     size_t nout = 0;
-    gmshModelOccRevolve(in, 2, 0, 0, 0, 0, 0, 1, 2 * PI, &out, &nout, NULL, 0, NULL, 0, 0,
+    gmshModelOccRevolve(in, 2, 0, 0, 0, 0, 0, 1, 2 * KT_PI, &out, &nout, NULL, 0, NULL, 0, 0,
                         &ierr);
     gm(b, ierr);
     for (size_t i = 0; i + 1 < nout; i += 2)
@@ -351,12 +350,12 @@ static int floor_distance(eye_build *b, int i, char *expr, size_t len)
     double rho = b->top[i][0] + b->depth[i] * b->dir[i][0];
     double z = b->top[i][1] + b->depth[i] * b->dir[i][1];
     double sector = eye->floor_sector > 0 && eye->floor_sector < 90 ? eye->floor_sector : 90;
-    double ca = cos(eye->floor_centre * PI / 180), sa = sin(eye->floor_centre * PI / 180);
+    double ca = cos(eye->floor_centre * KT_PI / 180), sa = sin(eye->floor_centre * KT_PI / 180);
     int n = snprintf(expr, len,
                      "sqrt((sqrt(x*x+y*y)-(%.17g))^2 + (z-(%.17g))^2 + ((%.17g)*0.5*("
                      "acos(Fabs(x*(%.17g)+y*(%.17g))/(sqrt(x*x+y*y)+1e-12))-(%.17g) + "
                      "Fabs(acos(Fabs(x*(%.17g)+y*(%.17g))/(sqrt(x*x+y*y)+1e-12))-(%.17g))))^2)",
-                     rho, z, rho, ca, sa, sector * PI / 180, ca, sa, sector * PI / 180);
+                     rho, z, rho, ca, sa, sector * KT_PI / 180, ca, sa, sector * KT_PI / 180);
     return n > 0 && (size_t)n < len ? matheval(b, expr) : (b->ierr = 1, -1);
 }
 
