@@ -415,15 +415,15 @@ static void opt(eye_build *b, const char *name, double v)
     gm(b, ierr);
 }
 
-/* Frontal-Delaunay surfaces and Delaunay volumes, on one thread: the same scene gives the same mesh, to the
- * byte, on every run and machine thread count (mesh-prep(1), REPRODUCIBILITY). HXT, the
- * parallel 3D mesher used before, orders the surface nodes it starts from by their heap
- * addresses, so its mesh changed with every run even on one thread (64,566 / 64,574 / 64,500
- * nodes of the default eye). On the default eye Delaunay takes 1.4x HXT's meshing time and
- * gives 10% more nodes (70,958 against ~64,500); its worst tets are slivers whose four corners
- * all lie on the boundary (min dihedral 8.5 deg against HXT's 11-12; mean radius ratio 0.727
- * against 0.692). The optimizer's threshold 0.5 (gmsh's default 0.3) improves the mean
- * quality for no measurable time. */
+/* Frontal-Delaunay surfaces and Delaunay volumes, on one thread: the same scene gives the same
+ * mesh, to the byte, on every run and machine thread count (mesh-prep(1), REPRODUCIBILITY).
+ * HXT, the parallel 3D mesher used before, orders the surface nodes it starts from by their
+ * heap addresses, so its mesh changed with every run even on one thread (64,566 / 64,574 /
+ * 64,500 nodes of the default eye). On the default eye Delaunay costs 1.2-1.5x HXT's CPU time
+ * in mesh-prep and gives 10% more nodes (70,958 against ~64,500); its worst tets are slivers
+ * whose four corners all lie on the boundary (min dihedral 8.5 deg against HXT's 11-12; mean
+ * radius ratio 0.727 against 0.692). The optimizer's threshold 0.5 (gmsh's default 0.3)
+ * improves the mean quality for no measurable time. */
 static void set_options(eye_build *b)
 {
     opt(b, "General.Terminal", 0);
