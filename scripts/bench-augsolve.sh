@@ -2,8 +2,8 @@
 # bench-augsolve.sh [BUILD_DIR] [--eye] [--steps N]: per-step time of augsolve's augmented
 # method against a full refactorization and Jacobi-PCG on the same steps, as ratios.
 #
-# Model: the paper's 5 x 5 x 1024 beam (25,600 nodes; plans/beam-1024.yaml) under the advancing
-# planar cut of plans/cut-beam-1024.yaml (5 nodes split per step, pulled apart at the free end);
+# Model: the paper's 5 x 5 x 1024 beam (25,600 nodes; plans/bench/beam-1024.yaml) under the advancing
+# planar cut of plans/bench/cut-beam-1024.yaml (5 nodes split per step, pulled apart at the free end);
 # with --eye also the eye of plans/eye.yaml under plans/lri-paired-60.yaml.
 # Each method is one augsolve run over the same edits (--no-vtk); the augmented and PCG runs
 # also carry --verify, whose fresh factorization is not part of the timed columns.
@@ -72,7 +72,7 @@ run_model() { # run_model NAME SCENE PLAN
         END { if (n) printf "# steps 1..%d: mean ms aug %.2f, refactor %.1f, pcg %.1f; ratio of means refactor/aug %.1f, pcg/aug %.1f; worst step refactor/aug %.1f, pcg/aug %.1f\n", n, sa / n, sr / n, sp / n, sr / sa, sp / sa, minr, minp }'
 }
 
-run_model beam-1024 plans/beam-1024.yaml plans/cut-beam-1024.yaml
+run_model beam-1024 plans/bench/beam-1024.yaml plans/bench/cut-beam-1024.yaml
 if [ "$EYE" = 1 ]; then
     run_model eye plans/eye.yaml plans/lri-paired-60.yaml
 fi

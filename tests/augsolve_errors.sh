@@ -28,15 +28,15 @@ check() { # check NAME EXPECTED_RC GREP_PATTERN RUN_DIR -- command...
     echo "ok   $name"
 }
 
-"$B/mesh-prep" plans/beam-16.yaml -o "$T/beam.msh" -q >/dev/null || { echo "mesh-prep failed"; exit 1; }
-"$B/cutplan" plans/cut-beam-16.yaml "$T/beam.msh" -o "$T/cut.edits" -q || { echo "cutplan failed"; exit 1; }
+"$B/mesh-prep" plans/bench/beam-16.yaml -o "$T/beam.msh" -q >/dev/null || { echo "mesh-prep failed"; exit 1; }
+"$B/cutplan" plans/bench/cut-beam-16.yaml "$T/beam.msh" -o "$T/cut.edits" -q || { echo "cutplan failed"; exit 1; }
 read -r _ _ _ NN NE < <(grep -m1 '^mesh ' "$T/cut.edits" | awk '{print $1, $2, $2, $3, $4}')
 S=$(grep -m1 '^scene ' "$T/cut.edits" | cut -d' ' -f2-)
 hdr() { printf 'keratome-edits 1\nscene %s\nmesh %s %s %s\n' "$S" "$T/beam.msh" "$NN" "$NE"; }
 
 # A good run from a pipe, verified against fresh factorizations each step.
 check "stream from cutplan, --verify" 0 "" "$T/ok" -- bash -c \
-    "'$B/cutplan' plans/cut-beam-16.yaml '$T/beam.msh' -o - -q | '$B/augsolve' '$T/beam.msh' - -o '$T/ok' --verify -q"
+    "'$B/cutplan' plans/bench/cut-beam-16.yaml '$T/beam.msh' -o - -q | '$B/augsolve' '$T/beam.msh' - -o '$T/ok' --verify -q"
 steps=$(grep -c '^step ' "$T/cut.edits")
 rows=$(($(wc -l <"$T/ok/steps.tsv") - 1))
 [ "$rows" = $((steps + 1)) ] || { echo "FAIL steps.tsv has $rows rows for $steps steps + step 0"; fail=1; }

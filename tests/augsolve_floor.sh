@@ -8,8 +8,8 @@ build="$1"
 tmp=$(mktemp -d /tmp/kt-floor.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 fail=0
-"$build/mesh-prep" -q plans/beam-128.yaml -o "$tmp/beam.msh" >/dev/null || { echo "FAILED: mesh-prep"; exit 1; }
-"$build/cutplan" -q plans/cut-beam-128.yaml "$tmp/beam.msh" -o "$tmp/cut.edits" || { echo "FAILED: cutplan"; exit 1; }
+"$build/mesh-prep" -q plans/bench/beam-128.yaml -o "$tmp/beam.msh" >/dev/null || { echo "FAILED: mesh-prep"; exit 1; }
+"$build/cutplan" -q plans/bench/cut-beam-128.yaml "$tmp/beam.msh" -o "$tmp/cut.edits" || { echo "FAILED: cutplan"; exit 1; }
 # The augmented method, verified at every step to 1e-9 (at cond(K) ~ 2e8 two fresh
 # factorizations, METIS and CHOLMOD's default order, already differ by 1.6e-10 here): the
 # backward error meets --tol 1e-10 directly or after one step of iterative refinement, never

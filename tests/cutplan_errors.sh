@@ -10,8 +10,8 @@ tmp=$(mktemp -d /tmp/kt-cutplan-err.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 fail=0
 eye=$(realpath plans/eye.yaml)
-beam=$(realpath plans/beam-16.yaml)
-"$build/mesh-prep" -q plans/beam-16.yaml -o "$tmp/beam.msh" > /dev/null || { echo "FAILED: mesh-prep"; exit 1; }
+beam=$(realpath plans/bench/beam-16.yaml)
+"$build/mesh-prep" -q plans/bench/beam-16.yaml -o "$tmp/beam.msh" > /dev/null || { echo "FAILED: mesh-prep"; exit 1; }
 
 # expect CODE PATTERN PLAN [ARGS...]: exit code, stderr matching, no output left
 expect() {

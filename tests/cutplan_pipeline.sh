@@ -76,9 +76,9 @@ print(f"{edits_path}: {steps} steps, {len(dups)} duplicated, {len(forces)} force
 EOF
 
 for s in beam-16 brick-4; do
-    check "mesh-prep $s" "$build/mesh-prep" -q plans/$s.yaml -o "$tmp/$s.msh" > /dev/null
-    check "cutplan cut-$s" "$build/cutplan" -q plans/cut-$s.yaml "$tmp/$s.msh" -o "$tmp/cut-$s.edits"
-    check "cutplan deform-$s" "$build/cutplan" -q plans/deform-$s.yaml "$tmp/$s.msh" -o "$tmp/deform-$s.edits"
+    check "mesh-prep $s" "$build/mesh-prep" -q plans/bench/$s.yaml -o "$tmp/$s.msh" > /dev/null
+    check "cutplan cut-$s" "$build/cutplan" -q plans/bench/cut-$s.yaml "$tmp/$s.msh" -o "$tmp/cut-$s.edits"
+    check "cutplan deform-$s" "$build/cutplan" -q plans/bench/deform-$s.yaml "$tmp/$s.msh" -o "$tmp/deform-$s.edits"
 done
 # beam-16: plane y = 2 mm, 7 rows of 5 nodes; brick-4: plane x = 0.5 mm, 4 rows of 5 nodes
 check "beam cut read back" $py "$tmp/check.py" "$tmp/beam-16.msh" "$tmp/cut-beam-16.edits" 1 2.0 7 5 cut
@@ -87,13 +87,13 @@ check "beam deform read back" $py "$tmp/check.py" "$tmp/beam-16.msh" "$tmp/defor
 check "brick deform read back" $py "$tmp/check.py" "$tmp/brick-4.msh" "$tmp/deform-brick-4.edits" 1 0 25 1 deform
 
 # stdout streams the same bytes; progress stays on stderr
-"$build/cutplan" plans/cut-beam-16.yaml "$tmp/beam-16.msh" -o - > "$tmp/stream.edits" 2> "$tmp/stream.err"
+"$build/cutplan" plans/bench/cut-beam-16.yaml "$tmp/beam-16.msh" -o - > "$tmp/stream.edits" 2> "$tmp/stream.err"
 check "cutplan -o - exits 0" test $? -eq 0
 check "stream equals file" cmp -s "$tmp/stream.edits" "$tmp/cut-beam-16.edits"
 check "summary on stderr" grep -q "7 steps, 35 nodes duplicated" "$tmp/stream.err"
 # a P2 mesh: the mid-edge nodes on the cut duplicate with the vertices (more nodes per row)
-check "mesh-prep P2" "$build/mesh-prep" -q plans/beam-16.yaml --order 2 -o "$tmp/beam2.msh" > /dev/null
-check "cutplan P2" "$build/cutplan" -q plans/cut-beam-16.yaml "$tmp/beam2.msh" -o "$tmp/p2.edits"
+check "mesh-prep P2" "$build/mesh-prep" -q plans/bench/beam-16.yaml --order 2 -o "$tmp/beam2.msh" > /dev/null
+check "cutplan P2" "$build/cutplan" -q plans/bench/cut-beam-16.yaml "$tmp/beam2.msh" -o "$tmp/p2.edits"
 n1=$(grep -c '^dup' "$tmp/cut-beam-16.edits"); n2=$(grep -c '^dup' "$tmp/p2.edits")
 check "P2 duplicates mid-edge nodes too ($n2 > 2 x $n1)" test "$n2" -gt $((2 * n1))
 check "--help" "$build/cutplan" --help > /dev/null

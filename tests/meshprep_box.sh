@@ -53,7 +53,7 @@ EOF
 
 for ord in amd metis constrained metis-last natural; do
     out="$tmp/beam-$ord.msh"
-    check "mesh-prep --ordering $ord" "$bin" plans/beam-16.yaml -o "$out" --ordering "$ord" -q >"$tmp/sum-$ord.txt"
+    check "mesh-prep --ordering $ord" "$bin" plans/bench/beam-16.yaml -o "$out" --ordering "$ord" -q >"$tmp/sum-$ord.txt"
     last=any
     case $ord in constrained | metis-last) last=last ;; esac
     check "meshio reads $ord" meshio_check "$out" 400 tetra $last
@@ -64,9 +64,9 @@ done
 check "summary rows" test "$(grep -cE '^[ *] (amd|metis|constrained|metis-last) ' "$tmp/sum-amd.txt")" -eq 4
 
 # Binary output and stdout output read back the same.
-check "binary" "$bin" plans/beam-16.yaml -o "$tmp/bin.msh" --binary --ordering constrained -q >/dev/null
+check "binary" "$bin" plans/bench/beam-16.yaml -o "$tmp/bin.msh" --binary --ordering constrained -q >/dev/null
 check "meshio reads binary" meshio_check "$tmp/bin.msh" 400 tetra last
-"$bin" plans/beam-16.yaml -o - --ordering constrained -q >"$tmp/stdout.msh" 2>"$tmp/stdout.err"
+"$bin" plans/bench/beam-16.yaml -o - --ordering constrained -q >"$tmp/stdout.msh" 2>"$tmp/stdout.err"
 check "stdout exit" test $? -eq 0
 check "meshio reads stdout" meshio_check "$tmp/stdout.msh" 400 tetra last
 
@@ -80,7 +80,7 @@ for t in m.cells_dict['tetra']:
         for j in range(i + 1, 4):
             e.add((min(t[i], t[j]), max(t[i], t[j])))
 print(len(e))" | tail -n 1)
-check "mesh-prep --order 2" "$bin" plans/beam-16.yaml -o "$tmp/p2.msh" --order 2 --ordering constrained -q >/dev/null
+check "mesh-prep --order 2" "$bin" plans/bench/beam-16.yaml -o "$tmp/p2.msh" --order 2 --ordering constrained -q >/dev/null
 check "meshio reads P2" meshio_check "$tmp/p2.msh" $((400 + edges)) tetra10 last
 
 exit $fail

@@ -74,14 +74,14 @@ expect_fail "missing model file" "nofile.yaml:3:9: surface.file: expected an exi
 expect_fail "missing scene file" "no-such-scene.yaml: cannot open" "$tmp/no-such-scene.yaml" -o "$tmp/out/x.msh"
 
 expect_fail "nonexistent output folder" "$tmp/out/none/x.msh: cannot create output file" \
-    plans/beam-4.yaml -o "$tmp/out/none/x.msh"
+    plans/bench/beam-4.yaml -o "$tmp/out/none/x.msh"
 
-expect_fail "no output option" "expected -o OUT.msh" plans/beam-4.yaml
-expect_fail "bad ordering" "unknown --ordering: rcm" plans/beam-4.yaml -o "$tmp/out/x.msh" --ordering rcm
-expect_fail "bad order" "--order expects 1 or 2" plans/beam-4.yaml -o "$tmp/out/x.msh" --order 3
+expect_fail "no output option" "expected -o OUT.msh" plans/bench/beam-4.yaml
+expect_fail "bad ordering" "unknown --ordering: rcm" plans/bench/beam-4.yaml -o "$tmp/out/x.msh" --ordering rcm
+expect_fail "bad order" "--order expects 1 or 2" plans/bench/beam-4.yaml -o "$tmp/out/x.msh" --order 3
 
 # A good scene into the same folder does leave its file (the checks above can see files).
-"$bin" plans/beam-4.yaml -o "$tmp/out/ok.msh" -q >/dev/null 2>&1
+"$bin" plans/bench/beam-4.yaml -o "$tmp/out/ok.msh" -q >/dev/null 2>&1
 if [ ! -s "$tmp/out/ok.msh" ]; then echo "FAILED: good scene wrote nothing"; fail=1; fi
 
 exit $fail

@@ -17,7 +17,7 @@ ok() { echo "ok   $1"; }
 bad() { echo "FAIL $1"; fail=1; }
 
 mkdir -p "$T/tree/in"
-cp plans/beam-4.yaml plans/cut-beam-4.yaml "$T/tree/in/"
+cp plans/bench/beam-4.yaml plans/bench/cut-beam-4.yaml "$T/tree/in/"
 in="$T/tree/in"
 "$B/mesh-prep" -q "$in/beam-4.yaml" -o "$in/beam.msh" >/dev/null || { echo "mesh-prep failed"; exit 1; }
 "$B/mesh-prep" -q --binary "$in/beam-4.yaml" -o "$in/beam-bin.msh" >/dev/null || exit 1

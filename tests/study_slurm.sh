@@ -4,7 +4,7 @@
 # munged with a key it creates, slurmctld and slurmd on 127.0.0.1 on free ports, from a
 # slurm.conf it writes to a temporary folder; runs the study there with ENGINE=slurm (job arrays
 # for the eyes and the runs, the summary after them), then locally with make from the Slurm
-# run's eye mesh (mesh-prep is not reproducible, see below), and once more with ENGINE=parallel;
+# run's eye mesh (so that only the solve, cut and read are compared, see below), and once more with ENGINE=parallel;
 # checks that the three nomogram.tsv are identical, that the Slurm arrays ran (their task logs),
 # and that a second ENGINE=slurm run resumes with nothing to redo; and stops everything it
 # started (trap), cancelling any job left. Bounded: every study under timeout
@@ -123,9 +123,9 @@ fi
 limit=${STUDY_SLURM_TIMEOUT:-2400}
 # The Slurm run first, all of it (the eye meshed by the eye array). The local run then starts
 # from the Slurm run's eye (scenes, plans and mesh copied with their times, so make takes them
-# as done) and does the runs and the summary itself: mesh-prep's 3D mesher is not reproducible
-# run to run (HXT on two threads: node counts differ by ~0.1%, a case's SIA by ~1%), so the
-# comparison is of the same mesh solved, cut and read under Slurm and locally. It must be exact.
+# as done) and does the runs and the summary itself, so the comparison is of the same mesh
+# solved, cut and read under Slurm and locally (mesh-prep's own reproducibility is
+# tests/reproducible.sh's). It must be exact.
 t0=$(date +%s)
 timeout "$limit" "${mk[@]}" OUT="$T/slurm" ENGINE=slurm "$target" > "$T/log/slurm-make.log" 2>&1
 t1=$(date +%s)

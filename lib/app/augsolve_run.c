@@ -16,6 +16,7 @@
 #include "augsolve_run.h"
 
 #include "aug.h"
+#include "blas.h"
 #include "aug_plan.h"
 #include "bind.h"
 #include "msh.h"
@@ -538,6 +539,7 @@ static int run_planned(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
 
 int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
 {
+    kt_blas_pin(); /* same answer on any machine (blas.h) */
     kt_aug_run_opts o = *o_in;
     if (o.aug.ordering == KT_AUG_ORDER_DEFAULT)
         o.aug.ordering = o.aug.method == KT_AUG_PLANNED || o.aug.method == KT_AUG_AUGMENTED

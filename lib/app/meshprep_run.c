@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "blas.h"
 #include "build.h"
 #include "eye.h"
 #include "bind.h"
@@ -262,6 +263,7 @@ static int check_budget(const kt_prep_opts *o, const kt_scene *s, int order, kt_
 
 int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e)
 {
+    kt_blas_pin(); /* same answer on any machine (blas.h) */
     kt_scene *s = kt_calloc(1, sizeof *s, e);
     if (!s) return e->code;
     run_info r;

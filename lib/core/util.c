@@ -27,7 +27,8 @@ int kt_fail(kt_err *e, int code, const char *fmt, ...)
 
 /* The allocation-failure test hook: the count of calls so far and the one to fail (0: none),
  * read once from KT_ALLOC_FAIL. The only mutable file-scope state of the library, used by the
- * test alone; an atomic counter, since the tools' worker threads allocate too. */
+ * test alone. keratome starts no threads (gmsh and the BLAS run on one, and neither calls
+ * kt_calloc); the counter is atomic all the same, at no cost. */
 static _Atomic long alloc_calls;
 static _Atomic long alloc_fail_at = -1;
 
@@ -170,12 +171,16 @@ int kt_out_commit(kt_out *o, kt_err *e)
         o->f = NULL;
         return KT_OK;
     }
-    int bad = ferror(o->f) != 0;
-    if (fclose(o->f) != 0) bad = 1;
+    int bad = ferror(o->f) != 0, err = bad ? EIO : 0;
+    if (fclose(o->f) != 0) {
+        bad = 1;
+        err = errno;
+    }
     o->f = NULL;
     if (bad) {
+        kt_fail(e, KT_ERUN, "%s: write failed: %s", o->path, strerror(err));
         kt_out_abort(o);
-        return kt_fail(e, KT_ERUN, "write failed (disk full?)");
+        return e->code;
     }
     if (rename(o->tmp, o->path) != 0) {
         int err = errno;

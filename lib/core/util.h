@@ -5,6 +5,9 @@
 #include <stddef.h>
 #include <stdio.h>
 
+/* pi, the one definition every module uses. */
+#define KT_PI 3.14159265358979323846
+
 /* Exit codes, shared by every tool: run-time/numerical failure 1, bad usage or input 2. */
 enum { KT_OK = 0, KT_ERUN = 1, KT_EINPUT = 2 };
 

@@ -3,8 +3,7 @@
 #include <stdarg.h>
 
 #include "svg.h"
-
-#define PI 3.14159265358979323846
+#include "util.h"
 
 void kt_svg_escape(FILE *f, const char *s)
 {
@@ -48,7 +47,7 @@ void kt_svg_poly(FILE *f, const double *xy, int n, int closed, const char *cls)
 
 void kt_svg_arc(FILE *f, double cx, double cy, double r, double a0, double a1, const char *cls)
 {
-    double t0 = a0 * PI / 180, t1 = a1 * PI / 180;
+    double t0 = a0 * KT_PI / 180, t1 = a1 * KT_PI / 180;
     int large = fabs(a1 - a0) > 180, sweep = a1 > a0 ? 0 : 1; /* screen y is down: ccw is sweep 0 */
     fprintf(f, "<path class=\"%s\" d=\"M %.2f %.2f A %.2f %.2f 0 %d %d %.2f %.2f\"/>\n", cls, cx + r * cos(t0),
             cy - r * sin(t0), r, r, large, sweep, cx + r * cos(t1), cy - r * sin(t1));

@@ -5,7 +5,6 @@
 
 #include <math.h>
 
-#define PI 3.14159265358979323846
 
 /* ---- quality ------------------------------------------------------------------------------- */
 
@@ -39,7 +38,7 @@ static double tet_quality(const double *p[4], double *dmin, double *dmax)
     for (int k = 0; k < 4; k++)
         for (int l = k + 1; l < 4; l++) {
             double c = dot(n[k], n[l]) / sqrt(dot(n[k], n[k]) * dot(n[l], n[l]));
-            double ang = 180.0 - acos(fmax(-1.0, fmin(1.0, c))) * 180.0 / PI;
+            double ang = 180.0 - acos(fmax(-1.0, fmin(1.0, c))) * 180.0 / KT_PI;
             if (ang < *dmin) *dmin = ang;
             if (ang > *dmax) *dmax = ang;
         }

@@ -21,7 +21,6 @@
 
 #include "eye.h"
 
-#define PI 3.14159265358979323846
 
 /* Tets per h^3 of gmsh's meshes of the eye, from the regions' volumes as summed here: 7.6 on
  * plans/eye.yaml (22,549 tets, P2) and 6.0 with every size about halved (optical zone 0.25,
@@ -39,7 +38,7 @@ static double shell_volume(const kt_eye_geom *g, double r0, double r1)
     double dr = (r1 - r0) / n, v = 0;
     for (int i = 0; i < n; i++) {
         double r = r0 + (i + 0.5) * dr, t = kt_eye_geom_thickness(g, r);
-        if (t > 0) v += 2 * PI * r * t * dr;
+        if (t > 0) v += 2 * KT_PI * r * t * dr;
     }
     return v;
 }
@@ -61,10 +60,10 @@ static double tube_tets(double len, double h0, double d0, double h1, double slop
 {
     if (!(h0 < h1)) return 0;
     const int n = 200;
-    double span = (h1 - h0) / slope, dx = span / n, v = PI * d0 * d0 / (h0 * h0 * h0);
+    double span = (h1 - h0) / slope, dx = span / n, v = KT_PI * d0 * d0 / (h0 * h0 * h0);
     for (int i = 0; i < n; i++) {
         double x = (i + 0.5) * dx, h = h0 + slope * x;
-        v += 2 * PI * (d0 + x) * dx / (h * h * h);
+        v += 2 * KT_PI * (d0 + x) * dx / (h * h * h);
     }
     return 0.5 * len * KT_EYE_TETS_PER_H3 * v;
 }
@@ -77,17 +76,17 @@ int kt_eye_estimate_tets(const kt_eye *eye, int order, double *tets, kt_err *e)
     kt_eye_sizes(eye, order, &hc, &ho);
     double r_oz = fmin(0.5 * eye->optical_zone, g.rL);
     double n = per_h3(shell_volume(&g, 0, r_oz), ho) + per_h3(shell_volume(&g, r_oz, g.rL), hc);
-    double sclera = 2 * PI / 3 * (pow(g.Rg, 3) - pow(g.Ri, 3)) * (cos(g.alphaL) - cos(g.alphaX));
+    double sclera = 2 * KT_PI / 3 * (pow(g.Rg, 3) - pow(g.Ri, 3)) * (cos(g.alphaL) - cos(g.alphaX));
     n += per_h3(fmax(sclera, 0), eye->h_sclera);
     for (int i = 0; i < eye->nring; i++) {
         double top[2], dir[2], depth;
         if (kt_eye_geom_ring(&g, eye, i, top, dir, &depth, e)) return e->code;
-        double area = 2 * PI * top[0] * depth;
+        double area = 2 * KT_PI * top[0] * depth;
         n += band_tets(area, eye->h_incision, 0.5 * eye->h_incision, hc, 2 * hc);
         if (eye->h_floor > 0) {
             double rho = top[0] + depth * dir[0];
             double sector = eye->floor_sector > 0 && eye->floor_sector < 90 ? eye->floor_sector : 90;
-            n += tube_tets(4 * sector * PI / 180 * rho, eye->h_floor, 0.5 * eye->h_floor,
+            n += tube_tets(4 * sector * KT_PI / 180 * rho, eye->h_floor, 0.5 * eye->h_floor,
                            fmin(eye->h_incision, hc), KT_EYE_FLOOR_GRADING);
         }
     }

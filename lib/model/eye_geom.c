@@ -5,8 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
-#define DEG (PI / 180.0)
+#define DEG (KT_PI / 180.0)
 #define RING_EPS 0.01 /* mm: a ring this close to the corneal or limbal border is rejected */
 
 static double sq(double a) { return a * a; }

@@ -112,6 +112,12 @@ double kt_eye_thickness(const kt_eye *eye, double r);
  * of the anterior cornea follow the surface); KT_ERUN when a node cannot be mapped. */
 int kt_eye_warp_toric(const kt_eye_geom *g, kt_mesh *m, kt_err *e);
 
+/* Puts the mid-edge nodes of every P2 tet whose Jacobian is not positive at a corner or its
+ * centre back on their edges' chords (except anterior-surface nodes, which stay on the toric
+ * surface); *nstraight: how many nodes moved. Delaunay leaves a few slivers with all four
+ * corners on the boundary, which curving to the geometry can invert (mesh-prep(1)). */
+int kt_eye_straighten_inverted(kt_mesh *m, int *nstraight, kt_err *e);
+
 /* KT_ERUN naming the tet when a P2 tet's Jacobian is not positive at its corners or centre. */
 int kt_eye_check_curved(const kt_mesh *m, kt_err *e);
 

@@ -72,17 +72,55 @@ static double p2_detj(const double *xyz, const int *q, const double L[4])
            J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
 }
 
+static const double CHECK_PTS[5][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1},
+                                       {0.25, 0.25, 0.25, 0.25}};
+
+/* Index of the first check point where tet t's Jacobian is not positive, or -1. */
+static int inverted_at(const kt_mesh *m, int t)
+{
+    for (int k = 0; k < 5; k++)
+        if (!(p2_detj(m->xyz, m->tet + 10 * (size_t)t, CHECK_PTS[k]) > 0)) return k;
+    return -1;
+}
+
+int kt_eye_straighten_inverted(kt_mesh *m, int *nstraight, kt_err *e)
+{
+    *nstraight = 0;
+    if (m->order != 2) return KT_OK;
+    char *ant = kt_calloc((size_t)m->nn, 1, e);
+    if (!ant) return e->code;
+    mark_group_nodes(m, KT_EYE_SURF_ANTERIOR, ant);
+    for (int t = 0; t < m->ne; t++) {
+        if (inverted_at(m, t) < 0) continue;
+        const int *q = m->tet + 10 * (size_t)t;
+        for (int j = 0; j < 6; j++) {
+            double *c = m->xyz + 3 * (size_t)q[4 + j];
+            const double *a = m->xyz + 3 * (size_t)q[kt_tet_edge[j][0]];
+            const double *b = m->xyz + 3 * (size_t)q[kt_tet_edge[j][1]];
+            if (ant[q[4 + j]]) continue;
+            int moved = 0;
+            for (int k = 0; k < 3; k++) {
+                double mid = 0.5 * (a[k] + b[k]);
+                moved |= c[k] != mid;
+                c[k] = mid;
+            }
+            *nstraight += moved;
+        }
+    }
+    free(ant);
+    return KT_OK;
+}
+
 /* Curved (P2) tets must stay valid after curving and the toric map: det J > 0 at the corners
  * and the centroid. */
 int kt_eye_check_curved(const kt_mesh *m, kt_err *e)
 {
-    static const double pts[5][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1},
-                                     {0.25, 0.25, 0.25, 0.25}};
-    for (int t = 0; t < m->ne && m->order == 2; t++)
-        for (int k = 0; k < 5; k++)
-            if (!(p2_detj(m->xyz, m->tet + 10 * (size_t)t, pts[k]) > 0))
-                return kt_fail(e, KT_ERUN, "eye: curved tet %d is inverted near its %s", t + 1,
-                               k < 4 ? "corners" : "centroid");
+    for (int t = 0; t < m->ne && m->order == 2; t++) {
+        int k = inverted_at(m, t);
+        if (k >= 0)
+            return kt_fail(e, KT_ERUN, "eye: curved tet %d is inverted near its %s", t + 1,
+                           k < 4 ? "corners" : "centroid");
+    }
     return KT_OK;
 }
 

@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
 
 /* ---- the ordering set ------------------------------------------------------------------------ */
 
@@ -136,7 +135,7 @@ int kt_orderset_nodes(const kt_scene *s, const kt_mesh *m, int **nodes, int *cou
 /* Angular distance (deg, 0-90) of node v from the meridian line through centre. */
 static double meridian_distance(const kt_mesh *m, int v, double centre)
 {
-    double t = atan2(m->xyz[3 * (size_t)v + 1], m->xyz[3 * (size_t)v]) * 180 / PI;
+    double t = atan2(m->xyz[3 * (size_t)v + 1], m->xyz[3 * (size_t)v]) * 180 / KT_PI;
     double d = fmod(fabs(t - centre), 180.0);
     return fmin(d, 180.0 - d);
 }

@@ -6,7 +6,6 @@
 
 #include "scene_int.h"
 
-#define PI 3.14159265358979323846
 
 /* Literature defaults of the eye; sources in man/man5/keratome-scene.5 and plans/eye.yaml. */
 void kt_scene_eye_defaults(kt_eye *eye)
@@ -132,7 +131,7 @@ static int check_eye(kt_yml *y, const yaml_node_t *n, const kt_eye *eye, kt_err 
         return kt_yml_fail(y, at ? at : n, e, "eye.globe_radius: expected more than the limbus's outer radius white_to_white/2 + limbus_width (%g mm), got %g mm",
                            r_limbus, eye->globe_radius);
     }
-    double polar = asin(r_limbus / eye->globe_radius) * 180 / PI;
+    double polar = asin(r_limbus / eye->globe_radius) * 180 / KT_PI;
     if (eye->extent <= polar) {
         at = kt_yml_get(y, n, "extent");
         return kt_yml_fail(y, at ? at : n, e, "eye.extent: expected more than the polar angle of the limbus's outer edge (%.1f deg), got %g deg",

@@ -7,7 +7,6 @@
 
 #include "axialmap.h"
 
-#define PI 3.14159265358979323846
 
 /* ---------------------------------------------------------------- colour scale */
 
@@ -217,10 +216,10 @@ static void draw_line(kt_topo_image *img, double x0, double y0, double x1, doubl
 static void draw_circle(kt_topo_image *img, int cx, int cy, double r, int dashed,
                         const unsigned char *rgb)
 {
-    int n = (int)(2 * PI * r) + 8;
+    int n = (int)(2 * KT_PI * r) + 8;
     for (int i = 0; i < n; i++) {
         if (dashed && (i / 6) % 2) continue;
-        double t = 2 * PI * i / n;
+        double t = 2 * KT_PI * i / n;
         put_pixel(img, (int)lround(cx + r * cos(t)), (int)lround(cy - r * sin(t)), rgb);
     }
 }
@@ -230,7 +229,7 @@ static void draw_axis_marks(kt_topo_image *img, const kt_topo_layout *L)
 {
     char buf[16];
     for (int t = 0; t < 360; t += 10) {
-        double c = cos(t * PI / 180), s = sin(t * PI / 180);
+        double c = cos(t * KT_PI / 180), s = sin(t * KT_PI / 180);
         int len = t % 30 == 0 ? 10 : 5;
         draw_line(img, L->cx + L->rad * c, L->cy - L->rad * s, L->cx + (L->rad + len) * c,
                   L->cy - (L->rad + len) * s, BLACK);

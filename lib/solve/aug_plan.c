@@ -63,7 +63,7 @@ static int grow(kt_plan *p, int nn, kt_err *e)
     return KT_OK;
 }
 
-/* One dup applied alone (equivalent to the whole step applied at once, which cut.c does edit
+/* One dup applied alone (equivalent to the whole step applied at once, which cut/apply.c does edit
  * by edit on scratch copies); a bad edit becomes stream:line:col. */
 static int apply_one(kt_mesh *m, const kt_step *s, kt_edit *ed, const char *stream, kt_err *e)
 {

@@ -9,7 +9,7 @@
  * A = T^T K_final T = [K C; C^T D], and K is exactly the intact stiffness: d = 0 glues every
  * child to its parent. Step k's system is the leading principal block A_k of A (the increments
  * released by step k); unreleased increments are zero. This holds because a dup moves tets from
- * a node to its new child only (cut.c checks that every moved tet holds the node), so a tet's
+ * a node to its new child only (cut/apply.c checks that every moved tet holds the node), so a tet's
  * node at step k is the nearest released ancestor of its final node.
  *
  * One factorization. P = [a fill-reducing order of K's free DOFs, then the free increments in

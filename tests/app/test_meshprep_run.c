@@ -1,5 +1,5 @@
-/* test_prep.c: element quality against analytic tets, 'below' groups, the box build with its
- * fixed face, and the ordering set. */
+/* test_meshprep_run.c: element quality against analytic tets, 'below' groups, the box build
+ * with its fixed face, and the ordering set. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdlib.h>
 #include <string.h>
@@ -12,7 +12,6 @@
 #include "orderset.h"
 #include "quality.h"
 
-#define KT_PI 3.14159265358979323846
 
 /* A one-tet mesh on the given vertices. */
 static void one_tet(kt_mesh *m, const double x[12])
@@ -182,5 +181,5 @@ int main(void)
     char cmd[64];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
-    return kt_test_done("test_prep");
+    return kt_test_done("test_meshprep_run");
 }

@@ -7,7 +7,9 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <signal.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 
 #include "kt_test.h"
@@ -80,6 +82,26 @@ static void test_atomic_output(void)
     kt_err e2 = {0};
     CHECK(kt_out_open(&o, bad, &e2) == KT_EINPUT && strncmp(e2.msg, bad, strlen(bad)) == 0, "'%s'", e2.msg);
     CHECK(o.f == NULL && o.tmp == NULL && o.path == NULL, "a failed open holds nothing");
+
+    /* a write that fails (the file-size limit stands in for a full disk): the error names the
+     * file, and neither the target nor a temporary is left */
+    char full[192];
+    snprintf(full, sizeof full, "%s/full.tsv", sub);
+    struct rlimit old, lim;
+    CHECK(getrlimit(RLIMIT_FSIZE, &old) == 0, "getrlimit");
+    lim = old;
+    lim.rlim_cur = 16;
+    void (*prev)(int) = signal(SIGXFSZ, SIG_IGN);
+    int before = count_entries(sub);
+    kt_err e3 = {0};
+    CHECK(kt_out_open(&o, full, &e3) == 0 && setrlimit(RLIMIT_FSIZE, &lim) == 0, "%s", e3.msg);
+    for (int i = 0; i < 100; i++) fprintf(o.f, "more than sixteen bytes\n");
+    int rc = kt_out_commit(&o, &e3);
+    setrlimit(RLIMIT_FSIZE, &old);
+    signal(SIGXFSZ, prev);
+    CHECK(rc == KT_ERUN && strncmp(e3.msg, full, strlen(full)) == 0, "'%s'", e3.msg);
+    CHECK(slurp(full, buf, sizeof buf) < 0 && count_entries(sub) == before,
+          "a failed commit left files (%d entries, %d before)", count_entries(sub), before);
 
     /* nested folders */
     char deep[192];

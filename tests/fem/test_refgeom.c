@@ -155,7 +155,9 @@ static void test_eye(void)
     CHECK(kt_refgeom_unload(s, &m, &o, &st, &e) == 0, "unload: %s", e.msg);
     CHECK(st.residual <= o.tol && st.iters > 1 && st.shift > 0.05, "stats: %d solves, %.3g um, shift %.1f um",
           st.iters, 1000 * st.residual, 1000 * st.shift);
-    CHECK(fabs(st.initial - shape_error(&m, u, Xm, NULL, 0)) >= 0, "initial recorded");
+    CHECK(st.initial > 10 * o.tol && st.initial > 10 * st.residual,
+          "initial shape error recorded and reduced: %.3g um -> %.3g um", 1000 * st.initial,
+          1000 * st.residual);
     memset(u, 0, n * sizeof(double));
     CHECK(forward(s, &m, u, &e) == 0, "forward: %s", e.msg);
     double err_all = shape_error(&m, u, Xm, NULL, 0), err_ant = shape_error(&m, u, Xm, ant, nant);

@@ -1,5 +1,5 @@
 /* fuzz_plan: libFuzzer harness for the plan YAML reader (kt_plan_load). The plan is written
- * into the harness's folder, beside links to the scenes of plans/ (KT_FUZZ_SCENES), so that
+ * into the harness's folder, beside links to the scenes of plans/bench/ (KT_FUZZ_SCENES), so that
  * "scene: beam-4.yaml" resolves as it does for the committed plans. */
 #include <dirent.h>
 #include <stdint.h>

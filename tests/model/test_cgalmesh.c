@@ -1,4 +1,4 @@
-/* test_cgal.c: CGAL Mesh_3 on real inputs (the Stanford bunny surface, a labelled CT liver)
+/* test_cgalmesh.c: CGAL Mesh_3 on real inputs (the Stanford bunny surface, a labelled CT liver)
  * checked against independent readings of the same files: enclosed volume by the divergence
  * theorem on the OFF triangles, labelled volume by counting voxels. Skips in a build without
  * CGAL. */
@@ -426,13 +426,13 @@ int main(void)
     kt_cgal_mesh_surface("/nonexistent/probe.off", 1, 1, 1, &m, &e);
     if (strstr(e.msg, "no CGAL")) {
         printf("test_cgal: CGAL is absent in this build (KT_WITH_CGAL=OFF); skipping\n");
-        return kt_test_done("test_cgal");
+        return kt_test_done("test_cgalmesh");
     }
     CHECK(e.code == KT_EINPUT && strstr(e.msg, "/nonexistent/probe.off"), "%s", e.msg);
     char dir[] = "/tmp/kt_test_cgal_XXXXXX";
     if (!mkdtemp(dir)) {
         CHECK(0, "mkdtemp failed");
-        return kt_test_done("test_cgal");
+        return kt_test_done("test_cgalmesh");
     }
     test_errors(dir);
     test_stl_cube(dir);
@@ -443,5 +443,5 @@ int main(void)
         CHECK(0, "%s or %s missing: run scripts/setup.sh", BUNNY, LIVER);
     }
     rmdir(dir);
-    return kt_test_done("test_cgal");
+    return kt_test_done("test_cgalmesh");
 }

@@ -18,8 +18,7 @@ const char *__lsan_default_suppressions(void) { return "leak:libgmsh.so\n"; }
 const char *__lsan_default_options(void);
 const char *__lsan_default_options(void) { return "print_suppressions=0"; }
 
-#define PI 3.14159265358979323846
-#define DEG (PI / 180.0)
+#define DEG (KT_PI / 180.0)
 
 /* A coarse eye with literature dimensions and 1.5 D of cylinder, steep meridian at 30 deg
  * (an oblique axis catches TABO orientation mistakes), one corneal and one limbal ring. */
@@ -355,7 +354,7 @@ static void check_curvature(const kt_mesh *m, const kt_eye *eye)
     int rc = fit_apex_hessian(m, nodes, n, 1.5, H, &used);
     free(nodes);
     CHECK(rc == 0 && used >= 30, "quartic fit over %d anterior nodes within 1.5 mm", used);
-    double ts = eye->steep_axis * DEG, tf = ts + PI / 2;
+    double ts = eye->steep_axis * DEG, tf = ts + KT_PI / 2;
     double ks = H[0] * cos(ts) * cos(ts) + 2 * H[1] * cos(ts) * sin(ts) + H[2] * sin(ts) * sin(ts);
     double kf = H[0] * cos(tf) * cos(tf) + 2 * H[1] * cos(tf) * sin(tf) + H[2] * sin(tf) * sin(tf);
     printf("P1 eye: fitted radii %.4f (steep, expect %.4f) %.4f (flat, expect %.4f) mm\n",

@@ -246,7 +246,7 @@ int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/kt-test-plan-XXXXXX");
     if (!mkdtemp(dir)) return 1;
-    if (!realpath("plans/eye.yaml", eye_scene) || !realpath("plans/beam-16.yaml", beam_scene)) {
+    if (!realpath("plans/eye.yaml", eye_scene) || !realpath("plans/bench/beam-16.yaml", beam_scene)) {
         fprintf(stderr, "run from the repository root\n");
         return 1;
     }

@@ -99,7 +99,7 @@ static void test_beam_plans(void)
     int h[] = {4, 16, 1024};
     for (int i = 0; i < 3; i++) {
         char path[64];
-        snprintf(path, sizeof path, "plans/beam-%d.yaml", h[i]);
+        snprintf(path, sizeof path, "plans/bench/beam-%d.yaml", h[i]);
         kt_scene s;
         kt_err e = {0};
         CHECK(kt_scene_load(path, &s, &e) == 0, "%s", e.msg);
@@ -115,7 +115,7 @@ static void test_beam_plans(void)
     }
     kt_scene s;
     kt_err e = {0};
-    CHECK(kt_scene_load("plans/brick-20.yaml", &s, &e) == 0, "%s", e.msg);
+    CHECK(kt_scene_load("plans/bench/brick-20.yaml", &s, &e) == 0, "%s", e.msg);
     /* The paper's largest brick: 18,081 nodes. */
     CHECK(s.box.n[0] * s.box.n[1] * s.box.n[2] == 18081, "brick-20 nodes");
 }

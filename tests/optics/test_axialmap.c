@@ -1,4 +1,4 @@
-/* test_topo.c: axial power maps: the PNG decodes (libpng's reader) with the layout's size, the
+/* test_axialmap.c: axial power maps: the PNG decodes (libpng's reader) with the layout's size, the
  * colours of a 43 D sphere and of a toric cornea's bow-tie are the scale's colours for those
  * powers, the legend shows every bin, and bad colour scales are refused. */
 #define _XOPEN_SOURCE 700
@@ -175,7 +175,7 @@ int main(void)
     kt_err e = {0};
     CHECK(ref_load(&ref) == 0, "cannot read %s", SCALE_TSV);
     CHECK(kt_topo_scale_load(SCALE_TSV, &sc, &e) == KT_OK, "%s", e.msg);
-    if (ref.n == 0 || sc.n == 0) return kt_test_done("test_topo"); /* nothing more to check */
+    if (ref.n == 0 || sc.n == 0) return kt_test_done("test_axialmap"); /* nothing more to check */
     CHECK(sc.n == ref.n && sc.n == 25, "scale has %d bins", sc.n);
     CHECK(sc.lo[0] == 30.0 && sc.hi[sc.n - 1] == 67.5, "scale range %g..%g", sc.lo[0], sc.hi[sc.n - 1]);
     for (int i = 0; i < sc.n; i++) CHECK(fabs(sc.hi[i] - sc.lo[i] - 1.5) < 1e-12, "bin %d is not 1.5 D", i);
@@ -262,5 +262,5 @@ int main(void)
         unlink(path);
     }
     rmdir(dir);
-    return kt_test_done("test_topo");
+    return kt_test_done("test_axialmap");
 }

@@ -169,7 +169,7 @@ rev=$(git -C "$here" rev-parse --short HEAD 2>/dev/null || echo unknown)
     echo
     cat "$tmp/nomogram-table.md"
     echo
-    echo "Clinical (Wallace, with the rule; shared/CLINICAL-ANCHORS.md): 1.00-1.50 D: 60 (1) at 40-50 y,"
+    echo "Clinical (Wallace, with the rule; docs/references.md): 1.00-1.50 D: 60 (1) at 40-50 y,"
     echo "50 (1) at 60-70 y, 30 (1) at 80+ y; 2.00-2.50 D: 60 (2) at 40-70 y; 3.00-4.00 D: 80 (2) at 40-70 y."
     echo "Wang 2003: a single 60-degree incision 0.55 D, a pair 1.18 D."
     echo

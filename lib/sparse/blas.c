@@ -1,0 +1,17 @@
+/* blas.c: pins the BLAS to one thread (blas.h). The symbol is looked up at run time: the
+ * build links the system's libblas.so.3, which Debian's alternatives may point at OpenBLAS,
+ * BLIS or the reference BLAS, and only OpenBLAS has openblas_set_num_threads. */
+#define _GNU_SOURCE
+#include "blas.h"
+
+#include <dlfcn.h>
+
+int kt_blas_pin(void)
+{
+    void *sym = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+    if (!sym) return 0;
+    void (*set_threads)(int);
+    *(void **)&set_threads = sym; /* POSIX's way from an object pointer to a function pointer */
+    set_threads(1);
+    return 1;
+}

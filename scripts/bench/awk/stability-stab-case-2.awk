@@ -1,0 +1,8 @@
+# stability-stab-case-2.awk: from scripts/bench/stability.sh (stab_case)
+{
+        rc = $1; cond = $2; vd = $8; rr = $9; bad = $7; sing = $13
+        if (rc != 0) { print (rc == 1 ? "loud" : (rc == 124 ? "timeout" : "error")); exit }
+        if (sing > 0) { print "SILENT-singular-K"; exit }
+        if (vd + 0 <= 1e-8 && bad == 0) { print "accurate"; exit }
+        if (cond != "NaN" && vd + 0 <= cond * 1e-16 && rr + 0 <= 1e-8 && bad == 0) { print "as-fresh"; exit }
+        print "SILENT" }
