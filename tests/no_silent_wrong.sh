@@ -35,12 +35,12 @@ no_result() {
     else ok "$1: no run.yaml, no steps.tsv"; fi
 }
 
-"$B/mesh-prep" -q plans/beam-16.yaml -o "$T/beam.msh" >/dev/null || { echo "FAIL mesh-prep"; exit 1; }
-"$B/cutplan" -q plans/cut-beam-16.yaml "$T/beam.msh" -o "$T/cut.edits" || { echo "FAIL cutplan"; exit 1; }
+"$B/mesh-prep" -q plans/bench/beam-16.yaml -o "$T/beam.msh" >/dev/null || { echo "FAIL mesh-prep"; exit 1; }
+"$B/cutplan" -q plans/bench/cut-beam-16.yaml "$T/beam.msh" -o "$T/cut.edits" || { echo "FAIL cutplan"; exit 1; }
 nsteps=$(grep -c '^step ' "$T/cut.edits")
 
 # ---- 1. the stream's end
-expect "the full pipe" 0 "" -- bash -c "'$B/cutplan' -q plans/cut-beam-16.yaml '$T/beam.msh' -o - | '$B/augsolve' -q '$T/beam.msh' - -o '$T/full'"
+expect "the full pipe" 0 "" -- bash -c "'$B/cutplan' -q plans/bench/cut-beam-16.yaml '$T/beam.msh' -o - | '$B/augsolve' -q '$T/beam.msh' - -o '$T/full'"
 grep -qx "steps: $nsteps" "$T/full/run.yaml" 2>/dev/null && ok "full pipe: run.yaml steps: $nsteps" || bad "full pipe: run.yaml steps"
 grep -qx "done $nsteps" "$T/cut.edits" && ok "the stream ends with 'done $nsteps'" || bad "no 'done $nsteps' record"
 for k in 1 3 $((nsteps - 1)); do
@@ -49,13 +49,13 @@ for k in 1 3 $((nsteps - 1)); do
     for m in planned augmented; do
         rm -rf "$T/cut$k$m"
         expect "pipe cut after step $k of $nsteps ($m)" 2 "found the end of the stream (cut short" -- bash -c \
-            "'$B/cutplan' -q plans/cut-beam-16.yaml '$T/beam.msh' -o - | head -n $lines | '$B/augsolve' -q '$T/beam.msh' - -o '$T/cut$k$m' --method $m"
+            "'$B/cutplan' -q plans/bench/cut-beam-16.yaml '$T/beam.msh' -o - | head -n $lines | '$B/augsolve' -q '$T/beam.msh' - -o '$T/cut$k$m' --method $m"
         no_result "cut after step $k ($m)" "$T/cut$k$m"
     done
 done
 hlines=$(grep -n '^mesh ' "$T/cut.edits" | cut -d: -f1)
 expect "header-only stream" 2 "<stdin>:$hlines: expected 'step 1', found the end of the stream (a header alone, cut short" -- bash -c \
-    "'$B/cutplan' -q plans/cut-beam-16.yaml '$T/beam.msh' -o - | head -n $hlines | '$B/augsolve' -q '$T/beam.msh' - -o '$T/hdr'"
+    "'$B/cutplan' -q plans/bench/cut-beam-16.yaml '$T/beam.msh' -o - | head -n $hlines | '$B/augsolve' -q '$T/beam.msh' - -o '$T/hdr'"
 no_result "header-only stream" "$T/hdr"
 
 # ---- 3. NaN must fail the accuracy checks; non-finite numbers are bad input
@@ -95,8 +95,8 @@ done
 # ---- 4. " #", quotes and a newline in every path
 D="$T/in #1 \"q\" 'x'"$'\n'"line2"
 mkdir -p "$D"
-cp plans/beam-16.yaml "$D/beam #2.yaml"
-sed 's/^scene: .*/scene: "beam #2.yaml"/' plans/cut-beam-16.yaml >"$D/cut \"beam\" #2.yaml"
+cp plans/bench/beam-16.yaml "$D/beam #2.yaml"
+sed 's/^scene: .*/scene: "beam #2.yaml"/' plans/bench/cut-beam-16.yaml >"$D/cut \"beam\" #2.yaml"
 printf 'not a scene\n' >"$D/beam" # what " #" cut to a comment would name
 expect "mesh-prep into an odd folder" 0 "" -- "$B/mesh-prep" -q "$D/beam #2.yaml" -o "$D/m #.msh"
 expect "cutplan, odd paths" 0 "" -- "$B/cutplan" -q "$D/cut \"beam\" #2.yaml" "$D/m #.msh" -o "$D/e #.edits"
@@ -114,7 +114,7 @@ EOF
 # a path longer than the header's 1023 bytes: refused, not cut to name another file
 L=$T/$(printf 'a%.0s' {1..250})/$(printf 'b%.0s' {1..250})/$(printf 'c%.0s' {1..250})/$(printf 'd%.0s' {1..250})
 mkdir -p "$L" && cp "$T/beam.msh" "$L/beam.msh"
-expect "a mesh path over 1023 bytes" 2 "expected a path of at most 1023 bytes" -- "$B/cutplan" -q plans/cut-beam-16.yaml "$L/beam.msh" -o "$T/long.edits"
+expect "a mesh path over 1023 bytes" 2 "expected a path of at most 1023 bytes" -- "$B/cutplan" -q plans/bench/cut-beam-16.yaml "$L/beam.msh" -o "$T/long.edits"
 [ ! -e "$T/long.edits" ] && ok "long path: no edits written" || bad "long path: edits written"
 
 # ---- 2. one run per folder (a coarse eye, as tests/cutplan_eye.sh makes it)

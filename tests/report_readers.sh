@@ -39,8 +39,8 @@ grep -q "magnitude: 0.5 D" "$tmp/over.yaml"
 "$B/curvature" --compare "$run" "$tmp/s2" -o "$tmp/cmp"
 
 # A real run: the paper's beam, cut and solved by the planned method.
-"$B/mesh-prep" -q plans/beam-64.yaml -o "$tmp/beam.msh" > /dev/null
-"$B/cutplan" -q plans/cut-beam-64.yaml "$tmp/beam.msh" -o "$tmp/beam.edits"
+"$B/mesh-prep" -q plans/bench/beam-64.yaml -o "$tmp/beam.msh" > /dev/null
+"$B/cutplan" -q plans/bench/cut-beam-64.yaml "$tmp/beam.msh" -o "$tmp/beam.edits"
 "$B/augsolve" -q "$tmp/beam.msh" "$tmp/beam.edits" -o "$tmp/beam"
 # The synthetic run with a provenance block whose mesh hash is the beam's, not its own mesh's.
 sed -n '/^provenance:/,$p' "$tmp/beam/run.yaml" >> "$run/run.yaml"
@@ -131,7 +131,7 @@ ry = yaml.safe_load(open(tmp + '/beam/run.yaml'))
 pv = ry['provenance']
 ed = dict(l.split(None, 1) for l in open(tmp + '/beam.edits') if l.startswith(('hash ', 'scene ')))
 check(pv['mesh_hash'] == ed['hash'].strip(), 'run.yaml mesh_hash = the edits header hash %s' % pv['mesh_hash'])
-scene = open('plans/beam-64.yaml', 'rb').read()
+scene = open('plans/bench/beam-64.yaml', 'rb').read()
 h = 0xcbf29ce484222325
 for b in scene: h = ((h ^ b) * 0x100000001b3) & 0xffffffffffffffff
 check(pv['scene_fnv1a'] == '%016x' % h, 'scene_fnv1a is the FNV-1a of the scene file')
