@@ -129,21 +129,31 @@ static int open_edits(run *r, const char *path, const char *mesh, kt_err *e)
     return KT_OK;
 }
 
-/* Materials, fixation and pressures of the scene on this mesh, with its physics (fibre
- * matrices, the prestress of the measured geometry): kt_physics_problem. */
-static int load_problem(run *r, const char *scene, kt_err *e)
+/* Materials, fixation and pressures of the scene on this mesh, bound (kt_fem_bind: no solve);
+ * the physics (fibre matrices, the prestress solve) comes later, in solve_physics, once every
+ * input has been checked. */
+static int bind_problem(run *r, const char *scene, kt_err *e)
 {
     if (!scene || !scene[0])
         return kt_fail(e, KT_EINPUT, "%s: the edits header names no scene: give --scene",
                        r->rd.name);
     abs_path(scene, r->scene_path, sizeof r->scene_path);
-    if (kt_scene_load(scene, &r->scene, e) ||
-        kt_physics_problem(&r->scene, &r->mesh, &r->fem, &r->phys, e))
+    if (kt_scene_load(scene, &r->scene, e) || kt_fem_bind(&r->scene, &r->mesh, &r->fem, e))
         return e->code;
-    if (r->phys.prestressed)
+    r->prob = kt_aug_problem_of(&r->mesh, &r->fem);
+    return KT_OK;
+}
+
+/* The scene's physics on the bound problem (kt_physics_finish: the prestress of the measured
+ * geometry under its loads); the plan's prescribed values follow the problem's. */
+static int solve_physics(run *r, kt_err *e)
+{
+    if (kt_physics_finish(&r->scene, &r->mesh, &r->fem, &r->phys, e)) return e->code;
+    if (r->phys.prestressed) {
+        kt_plan_zero_values(&r->plan);
         kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
                "apex membrane stress %.4g kPa\n", r->phys.t_build, 1000 * r->phys.sig_apex);
-    r->prob = kt_aug_problem_of(&r->mesh, &r->fem);
+    }
     return KT_OK;
 }
 
@@ -424,11 +434,6 @@ static int restrict_output(run *r, const kt_aug_run_opts *o, kt_err *e)
  * Returns KT_OK with r->fallback set when the plan does not allow it. */
 static int run_planned(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
 {
-    if (kt_plan_read(&r->plan, &r->rd, e)) return e->code;
-    r->plan_read = 1;
-    if (kt_plan_check(&r->plan, r->rd.name, &r->prob, &r->final, e) ||
-        parse_steps(r, o->steps, r->plan.nsteps, e))
-        return e->code;
     if (!r->plan.usable) {
         r->fallback = r->plan.why;
         r->fallback_method = KT_AUG_AUGMENTED;
@@ -473,6 +478,33 @@ static int run_planned(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
     return KT_OK;
 }
 
+/* Everything that can be checked before the first solve, cheapest first: option conflicts,
+ * the mesh, the stream's header, the scene, --output, the run folder (claimed as soon as the
+ * header is known good: a re-run's old result goes at once), then every step of the stream
+ * (read to its end and applied to a copy of the mesh: cutplan never waits on augsolve) and
+ * --steps. Nothing is solved before all of it passes. */
+static int check_inputs(run *r, const kt_aug_run_opts *o, kt_err *e)
+{
+    if (o->aug.method == KT_AUG_AUGMENTED && o->aug.factor == KT_AUG_FACTOR_SIMPLICIAL)
+        return kt_fail(e, KT_EINPUT, "--factor simplicial: the augmented method factors the "
+                       "intact stiffness supernodally (its W columns are kept by supernode)");
+    if (kt_msh_read(o->mesh, &r->mesh, e) || open_edits(r, o->edits, o->mesh, e) ||
+        bind_problem(r, o->scene ? o->scene : r->rd.h.scene, e))
+        return e->code;
+    if (o->aug.output[0] && !kt_mesh_find_group(&r->mesh, 2, o->aug.output) &&
+        !kt_mesh_find_group(&r->mesh, 3, o->aug.output))
+        return kt_fail(e, KT_EINPUT, "--output %s: no surface or region of that name in the mesh",
+                       o->aug.output);
+    if (claim_run_dir(r, o->run_dir, e) || open_tsv(r, o, e) ||
+        kt_plan_read(&r->plan, &r->rd, e) ||
+        kt_plan_check(&r->plan, r->rd.name, &r->prob, &r->final, e) ||
+        parse_steps(r, o->steps, r->plan.nsteps, e))
+        return e->code;
+    r->plan_read = 1;
+    if (o->aug.method != KT_AUG_PLANNED) kt_mesh_free(&r->final);
+    return KT_OK;
+}
+
 int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
 {
     kt_aug_run_opts o = *o_in;
@@ -483,10 +515,7 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     if (!r) return e->code;
     int steps = 0;
     r->quiet = o.aug.quiet;
-    if (kt_msh_read(o.mesh, &r->mesh, e) || open_edits(r, o.edits, o.mesh, e) ||
-        load_problem(r, o.scene ? o.scene : r->rd.h.scene, e) || claim_run_dir(r, o.run_dir, e) ||
-        open_tsv(r, &o, e))
-        goto done;
+    if (check_inputs(r, &o, e) || solve_physics(r, e)) goto done;
     if (o.aug.method == KT_AUG_PLANNED) {
         if (run_planned(r, &o, &steps, e)) goto done;
         if (r->fallback) {
@@ -497,10 +526,6 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
             if (ref) o.aug.ordering = KT_AUG_ORDER_METIS;
             else o.aug.factor = KT_AUG_FACTOR_SUPERNODAL; /* its W is kept by supernode */
         }
-    } else if (o.steps) {
-        if (kt_plan_read(&r->plan, &r->rd, e) || parse_steps(r, o.steps, r->plan.nsteps, e))
-            goto done;
-        r->plan_read = 1;
     }
     if (o.aug.method != KT_AUG_PLANNED && run_stream(r, &o, &steps, e)) goto done;
     if (kt_out_commit(&r->tsv, e)) goto done;

@@ -159,3 +159,9 @@ int kt_plan_check(kt_plan *p, const char *stream, const kt_aug_problem *prob, kt
     }
     return KT_OK;
 }
+
+void kt_plan_zero_values(kt_plan *p)
+{
+    memset(p->g, 0, 3 * (size_t)p->nn * sizeof(double));
+    memset(p->gv, 0, 3 * (size_t)p->nn * sizeof(double));
+}

@@ -48,6 +48,10 @@ int kt_plan_read(kt_plan *p, kt_edits_reader *r, kt_err *e);
 int kt_plan_check(kt_plan *p, const char *stream, const kt_aug_problem *prob, kt_mesh *final,
                   kt_err *e);
 void kt_plan_free(kt_plan *p);
+/* Every prescribed value zero (g and gv): the plan of a problem whose values kt_physics_finish
+ * zeroed after kt_plan_check read them (a prestressed scene's steps are increments from the
+ * loaded state). */
+void kt_plan_zero_values(kt_plan *p);
 
 /* The factor of the final augmented matrix and the variables' positions in it. Owner:
  * kt_plan_factor_build / kt_plan_factor_free. */
