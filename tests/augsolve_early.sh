@@ -4,7 +4,8 @@
 # step's line of the edits stream, an --output set the mesh lacks (every method), a --steps
 # list beyond the plan, an option conflict, a -o that is a file and a run folder another
 # augsolve holds each exit 2 before the prestress solve (its "prestress" line never appears on
-# stderr) and leave no steps.tsv. A good run of the same inputs does print that line.
+# stderr) and leave no steps.tsv. Good runs of the same inputs do print that line, and their
+# steps (planned, augmented, refactor) agree with a fresh factorization to 1e-10.
 set -uo pipefail
 B=${1:?build dir}
 T=$(mktemp -d /tmp/augsolve_early.XXXXXX)
@@ -64,11 +65,15 @@ check "a locked run folder" "another augsolve" "$T/r5" -- \
     "$B/augsolve" "$T/eye.msh" "$T/lri.edits" -o "$T/r5"
 exec 9>&-
 
-# the control: the same inputs run, and the prestress line the checks look for is printed
-if "$B/augsolve" "$T/eye.msh" "$T/lri.edits" -o "$T/ok" --no-vtk 2>"$T/err" >/dev/null &&
-    grep -q prestress "$T/err" && [ -s "$T/ok/run.yaml" ]; then
-    echo "ok   control run prints its prestress line"
-else
-    echo "FAIL control run:"; cat "$T/err"; fail=1
-fi
+# the control: the same inputs run, and the prestress line the checks look for is printed;
+# every direct method's steps agree with a fresh factorization (--verify) to 1e-10
+for m in planned augmented refactor; do
+    if "$B/augsolve" "$T/eye.msh" "$T/lri.edits" -o "$T/ok-$m" --method "$m" --no-vtk --verify \
+        --verify-tol 1e-10 2>"$T/err" >/dev/null && grep -q prestress "$T/err" &&
+        [ -s "$T/ok-$m/run.yaml" ] && [ "$(grep -c '^[0-9]' "$T/ok-$m/steps.tsv")" -ge 4 ]; then
+        echo "ok   control run, --method $m: prints its prestress line, --verify-tol 1e-10 holds"
+    else
+        echo "FAIL control run, --method $m:"; cat "$T/err"; fail=1
+    fi
+done
 exit $fail

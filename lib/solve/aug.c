@@ -119,26 +119,6 @@ static int out_grow(kt_aug *A, int nn_old, kt_err *e)
     return KT_OK;
 }
 
-/* The --output set's DOFs on the current mesh. */
-static int output_mask(kt_aug *A, kt_err *e)
-{
-    if (!A->o.output[0]) return KT_OK;
-    const kt_mesh *m = &A->s.mesh;
-    const kt_group *g = kt_mesh_find_group(m, 2, A->o.output);
-    if (!g) g = kt_mesh_find_group(m, 3, A->o.output);
-    if (!g)
-        return kt_fail(e, KT_EINPUT, "--output %s: no surface or region of that name in the mesh",
-                       A->o.output);
-    free(A->outmask);
-    if (!(A->outmask = kt_calloc(3 * (size_t)m->nn, 1, e))) return e->code;
-    int *nodes = NULL, cnt = 0;
-    if (kt_mesh_group_nodes(m, g, &nodes, &cnt, e)) return e->code;
-    for (int k = 0; k < cnt; k++)
-        for (int c = 0; c < 3; c++) A->outmask[3 * nodes[k] + c] = 1;
-    free(nodes);
-    return KT_OK;
-}
-
 /* ------------------------------------------------------------------- a step */
 
 static void row_start(kt_aug *A)
@@ -176,36 +156,19 @@ static int solve_method(kt_aug *A, kt_err *e)
                    kt_aug_method_name(A->o.method));
 }
 
-/* A fresh factorization (METIS, what a user would run) compared on the output DOFs. */
-static int verify(kt_aug *A, kt_err *e)
+int kt_aug_fresh(kt_aug *A, double *u, double *t, kt_err *e)
 {
-    int n = 3 * A->s.mesh.nn;
-    double *ref = kt_calloc((size_t)n, sizeof(double), e), relres = NAN, t0 = kt_now();
-    if (!ref) return e->code;
-    if (aug_fresh_solve(A, 0, ref, NULL, &relres, e) == KT_OK) {
-        A->row.t_verify = aug_ms(kt_now() - t0);
-        double dmax = 0, rmax = 0;
-        for (int i = 0; i < n; i++) {
-            if (A->outmask && !A->outmask[i]) continue;
-            dmax = fmax(dmax, fabs(A->u[i] - ref[i]));
-            rmax = fmax(rmax, fabs(ref[i]));
-        }
-        A->row.verify_rel_diff = rmax > 0 ? dmax / rmax : dmax;
-        if (!(A->row.verify_rel_diff <= A->o.verify_tol))
-            kt_fail(e, KT_ERUN, "step %d: --verify: %s and a fresh factorization differ by %.3g "
-                    "(relative, max norm) > --verify-tol %.3g", A->s.step,
-                    kt_aug_method_name(A->o.method), A->row.verify_rel_diff, A->o.verify_tol);
-    }
-    free(ref);
+    double relres = NAN, t0 = kt_now();
+    aug_fresh_solve(A, 0, u, NULL, &relres, e);
+    *t = kt_now() - t0;
     return e->code;
 }
 
-static int after_solve(kt_aug *A, int nn_before, kt_err *e)
+/* The step's row, and its field kept as the next step's starting guess (CG). */
+static void after_solve(kt_aug *A, int nn_before)
 {
     row_finish(A, nn_before);
-    if (A->o.verify && verify(A, e)) return e->code;
     memcpy(A->uprev, A->u, 3 * (size_t)A->s.mesh.nn * sizeof(double));
-    return KT_OK;
 }
 
 int kt_aug_create(kt_aug **out, const kt_aug_problem *p, const kt_aug_opts *o, kt_err *e)
@@ -223,14 +186,15 @@ int kt_aug_create(kt_aug **out, const kt_aug_problem *p, const kt_aug_opts *o, k
     A->c_started = 1;
     row_start(A);
     double t0 = kt_now();
-    if (aug_stream_init(&A->s, p, e) || out_grow(A, 0, e) || output_mask(A, e)) goto fail;
+    if (aug_stream_init(&A->s, p, e) || out_grow(A, 0, e)) goto fail;
     if (A->o.method == KT_AUG_AUGMENTED) {
         if (aug_intact_build(&A->F, &A->s, A->o.ordering, &A->c, e)) goto fail;
         A->have_factor = 1;
         if (aug_border_init(&A->B, &A->F, e)) goto fail;
     }
     A->row.t_update = aug_ms(kt_now() - t0);
-    if (solve_method(A, e) || after_solve(A, A->s.mesh.nn, e)) goto fail;
+    if (solve_method(A, e)) goto fail;
+    after_solve(A, A->s.mesh.nn);
     *out = A;
     return KT_OK;
 fail:
@@ -245,8 +209,7 @@ int kt_aug_step(kt_aug *A, const kt_step *st, kt_err *e)
                        A->s.step, A->s.step + 1);
     int nn_before = A->s.mesh.nn, *newc = NULL, nc = 0;
     double t0 = kt_now();
-    if (aug_stream_apply(&A->s, st, &newc, &nc, e) || out_grow(A, nn_before, e) ||
-        output_mask(A, e)) {
+    if (aug_stream_apply(&A->s, st, &newc, &nc, e) || out_grow(A, nn_before, e)) {
         free(newc);
         return e->code;
     }
@@ -259,7 +222,8 @@ int kt_aug_step(kt_aug *A, const kt_step *st, kt_err *e)
     A->row.t_update = aug_ms(t1 - t0);
     A->row.t_step1 = aug_ms(kt_now() - t1);
     if (solve_method(A, e)) return e->code;
-    return after_solve(A, nn_before, e);
+    after_solve(A, nn_before);
+    return KT_OK;
 }
 
 void kt_aug_free(kt_aug *A)
@@ -274,7 +238,6 @@ void kt_aug_free(kt_aug *A)
     free(A->u);
     free(A->react);
     free(A->uprev);
-    free(A->outmask);
     if (A->c_started) cholmod_finish(&A->c);
     free(A);
 }

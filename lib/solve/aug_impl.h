@@ -158,7 +158,6 @@ struct kt_aug {
     /* the output */
     double *u, *react, *uprev;  /* 3 cap_nn */
     int out_cap;
-    unsigned char *outmask;     /* in the output set (NULL: all) */
     int react_valid;
     kt_aug_row row;
 };

@@ -14,10 +14,6 @@ void kt_plan_factor_free(kt_plan_factor *F)
 {
     if (F->started) {
         cholmod_free_factor(&F->L, &F->c);
-        cholmod_free_dense(&F->w[0], &F->c);
-        cholmod_free_dense(&F->w[1], &F->c);
-        cholmod_free_dense(&F->Y, &F->c);
-        cholmod_free_dense(&F->E, &F->c);
         cholmod_free_sparse(&F->A, &F->c);
         cholmod_finish(&F->c);
     }
@@ -27,10 +23,6 @@ void kt_plan_factor_free(kt_plan_factor *F)
     free(F->lrow);
     free(F->lcol);
     free(F->lval);
-    free(F->yf);
-    free(F->bf);
-    free(F->want);
-    free(F->rwork);
     memset(F, 0, sizeof *F);
 }
 
@@ -281,7 +273,7 @@ int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *fin
     if (!P) return e->code;
     double t1 = kt_now();
     if (factorize(F, P, factor, max_ratio, p->nsteps, e) == KT_OK && !F->refused)
-        kt_plan_subst_init(F, e);
+        kt_plan_subst_init(F);
     free(P);
     F->t_order = t1 - t0;
     F->t_factor = kt_now() - t1;

@@ -175,9 +175,6 @@ static void field(kt_aug *A)
         else
             A->u[i] = r->x[r->nK + A->B.apos[i]] + A->u[3 * s->parent[a] + c];
     }
-    if (A->outmask)
-        for (int i = 0; i < r->n; i++)
-            if (!A->outmask[i]) A->u[i] = NAN;
 }
 
 int aug_solve_augmented(kt_aug *A, kt_err *e)
