@@ -31,7 +31,7 @@ typedef struct run {
     kt_aug_problem prob;
     FILE *edits;
     kt_edits_reader rd;
-    kt_plan plan;               /* the whole stream, read to its end and checked */
+    kt_edits_plan plan;               /* the whole stream, read to its end and checked */
     kt_mesh final;              /* its final cut mesh */
     unsigned char *want;        /* nsteps+1: steps to write (--steps) */
     kt_solver *sv;
@@ -47,7 +47,7 @@ static void run_free(run *r)
 {
     kt_solver_free(r->sv);
     kt_mesh_free(&r->final);
-    kt_plan_free(&r->plan);
+    kt_edits_plan_free(&r->plan);
     free(r->want);
     if (r->edits && r->edits != stdin) fclose(r->edits);
     if (r->tsv_open) kt_out_abort(&r->tsv);
@@ -135,7 +135,7 @@ static int solve_physics(run *r, kt_err *e)
 {
     if (kt_physics_finish(&r->scene, &r->mesh, &r->fem, &r->phys, e)) return e->code;
     if (r->phys.prestressed) {
-        kt_plan_zero_values(&r->plan);
+        kt_edits_plan_zero_values(&r->plan);
         kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
                "apex membrane stress %.4g kPa\n", r->phys.t_build, 1000 * r->phys.sig_apex);
     }
@@ -182,7 +182,7 @@ static void write_row(run *r, const kt_aug_row *w)
     }
     fputc('\t', f);
     tsv_num(f, w->rel_residual, "%.3e");
-    fprintf(f, "\t%s\t", w->refactor);
+    fputc('\t', f);
     tsv_num(f, w->verify_rel_diff, "%.3e");
     fprintf(f, "\t%.0f\t", w->nnz_L);
     tsv_num(f, w->t_verify, "%.1f");
@@ -193,11 +193,9 @@ static void progress(const kt_aug_row *w, int quiet)
 {
     if (quiet) return;
     int tty = isatty(STDERR_FILENO);
-    if (!tty && w->step % 10 != 0 && strcmp(w->refactor, "-") == 0) return;
-    fprintf(stderr, "%saugsolve: step %d: %d DOFs, m %d, %d iterations, %.2f ms%s%s%s", tty ? "\r" : "",
-            w->step, w->n_dofs, w->m, w->iters, w->t_total,
-            strcmp(w->refactor, "-") ? ", refactor " : "", strcmp(w->refactor, "-") ? w->refactor : "",
-            tty ? "   " : "\n");
+    if (!tty && w->step % 10 != 0) return;
+    fprintf(stderr, "%saugsolve: step %d: %d DOFs, m %d, %d iterations, %.2f ms%s", tty ? "\r" : "",
+            w->step, w->n_dofs, w->m, w->iters, w->t_total, tty ? "   " : "\n");
 }
 
 /* A YAML double-quoted scalar: paths may hold ':' '#' or be "-", which plain scalars can't. */
@@ -247,7 +245,7 @@ static int open_tsv(run *r, const kt_aug_run_opts *o, kt_err *e)
     if (kt_out_open(&r->tsv, path, e)) return e->code;
     r->tsv_open = 1;
     fputs("step\tn_dofs\tm\tnew_dofs\titers\tclosure_max\tt_update_ms\tt_step1_ms\tt_step2_ms\t"
-          "t_step3_ms\tt_total_ms\trel_residual\trefactor\tverify_rel_diff\tnnz_L\tt_verify_ms\n", r->tsv.f);
+          "t_step3_ms\tt_total_ms\trel_residual\tverify_rel_diff\tnnz_L\tt_verify_ms\n", r->tsv.f);
     return KT_OK;
 }
 
@@ -342,8 +340,8 @@ static int check_inputs(run *r, const kt_aug_run_opts *o, kt_err *e)
         return kt_fail(e, KT_EINPUT, "--output %s: no surface or region of that name in the mesh",
                        o->aug.output);
     if (claim_run_dir(r, o->run_dir, e) || open_tsv(r, o, e) ||
-        kt_plan_read(&r->plan, &r->rd, e) ||
-        kt_plan_check(&r->plan, r->rd.name, &r->prob, &r->final, e) ||
+        kt_edits_plan_read(&r->plan, &r->rd, e) ||
+        kt_edits_plan_check(&r->plan, r->rd.name, &r->prob, &r->final, e) ||
         parse_steps(r, o->steps, r->plan.nsteps, e))
         return e->code;
     return KT_OK;

@@ -87,7 +87,6 @@ typedef struct kt_aug_row {
     double t_update, t_step1, t_step2, t_step3, t_total;
     double rel_residual;      /* ||r|| / ||b|| of the system solved (baselines: its free rows) */
     double verify_rel_diff;   /* max |u - u_fresh| / max |u_fresh| over the output nodes */
-    char refactor[32];        /* "-" (kept as a column of steps.tsv) */
     double nnz_L;             /* nonzeros of the factor used: refactor its L; augmented
                                * L + W + the dense triangle of S; planned its L */
     double t_verify;          /* ms of the --verify fresh solve (assembly, METIS analysis,

@@ -25,9 +25,9 @@
 
 #include "aug.h"
 
-/* The plan: the whole stream and what it implies for the variables. Owner: kt_plan_read /
- * kt_plan_free. */
-typedef struct kt_plan {
+/* The plan: the whole stream and what it implies for the variables. Owner: kt_edits_plan_read /
+ * kt_edits_plan_free. */
+typedef struct kt_edits_plan {
     int nsteps, cap;
     kt_step *step;              /* steps 1..nsteps at step[0..nsteps) */
     int nn0, nn;                /* intact and final node counts */
@@ -38,20 +38,20 @@ typedef struct kt_plan {
     double *g;                  /* 3 nn: the prescribed displacement of each constrained DOF */
     int usable;                 /* 1: the principal-submatrix form holds */
     char why[512];              /* else: where and why it does not */
-} kt_plan;
+} kt_edits_plan;
 
 /* Read the rest of the stream (every step to the end) into p. Bad input is KT_EINPUT. */
-int kt_plan_read(kt_plan *p, kt_edits_reader *r, kt_err *e);
+int kt_edits_plan_read(kt_edits_plan *p, kt_edits_reader *r, kt_err *e);
 /* Validate every step against the intact mesh before anything is factored (a bad tet is
  * KT_EINPUT "stream:line:col: ..."), and set parents, constrained variables and p->usable.
  * The final cut mesh is written to final (caller frees). */
-int kt_plan_check(kt_plan *p, const char *stream, const kt_aug_problem *prob, kt_mesh *final,
-                  kt_err *e);
-void kt_plan_free(kt_plan *p);
+int kt_edits_plan_check(kt_edits_plan *p, const char *stream, const kt_aug_problem *prob,
+                        kt_mesh *final, kt_err *e);
+void kt_edits_plan_free(kt_edits_plan *p);
 /* Every prescribed value zero (g and gv): the plan of a problem whose values kt_physics_finish
- * zeroed after kt_plan_check read them (a prestressed scene's steps are increments from the
+ * zeroed after kt_edits_plan_check read them (a prestressed scene's steps are increments from the
  * loaded state). */
-void kt_plan_zero_values(kt_plan *p);
+void kt_edits_plan_zero_values(kt_edits_plan *p);
 
 /* The factor of the final augmented matrix and the variables' positions in it: the symbolic
  * and numeric work of one plan, immutable once built (a step's substitutions keep their state
@@ -91,7 +91,7 @@ typedef struct kt_plan_factor {
  * factorization of any step, up to its new DOFs), or needs more flops than nsteps + 1 fresh
  * factorizations of it (max_ratio <= 0, or the natural order: no check), nothing is factored:
  * F->refused = 1 and F->why says so (the caller falls back). */
-int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
+int kt_plan_factor_build(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
                          const kt_materials *mats, int ordering, int factor, double max_ratio,
                          kt_err *e);
 void kt_plan_factor_free(kt_plan_factor *F);
@@ -145,30 +145,30 @@ typedef struct kt_plan_state {
 } kt_plan_state;
 
 /* The state of step 0 for the plan p factored as F. */
-int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+int kt_plan_state_init(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                        const kt_aug_problem *prob, kt_err *e);
 /* Restricted output (aug_plan_out.c): from now on the back substitution computes only what
  * the DOFs of the marked nodes of the final mesh (nodes, p->nn) need: the supernodes on their
  * paths to the roots of the supernodal tree. A simplicial factor keeps the full one. Then a
  * step's u is valid on the marked nodes only and it computes no residual and no reactions. */
-int kt_plan_state_restrict(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+int kt_plan_state_restrict(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                            const unsigned char *nodes, kt_err *e);
 void kt_plan_state_free(kt_plan_state *s);
 /* Apply step k's edits (k = s->step + 1) to the state without solving. */
-int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e);
+int kt_plan_advance(kt_plan_state *s, const kt_edits_plan *p, kt_err *e);
 /* Solve the current step: loads on the cut mesh -> right-hand side of the released rows ->
  * substitutions -> field (s->u, s->react) and s->row. Where the backward error exceeds tol,
  * one step of iterative refinement; still above it is KT_ERUN. */
-int kt_plan_solve(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+int kt_plan_solve(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                   const kt_aug_problem *prob, double tol, kt_err *e);
 /* A step that is not solved (augsolve --steps): its loads and right-hand side, and the plan's
  * forward substitution continued over its columns, so that every later step's field is
  * bitwise what it is when every step is solved. */
-int kt_plan_continue(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+int kt_plan_continue(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                      const kt_aug_problem *prob, kt_err *e);
 /* Solve the current cut mesh from scratch (assembly, METIS, factorization, solve: what a user
  * would run instead) into u (3 nn); t gets the seconds it took. The --verify reference. */
-int kt_plan_fresh(const kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
+int kt_plan_fresh(const kt_plan_state *s, const kt_edits_plan *p, const kt_aug_problem *prob,
                   double *u, double *t, kt_err *e);
 
 #endif

@@ -20,7 +20,7 @@ static int super_tree(const cholmod_factor *L, int *col_super, int *parent)
     return ns;
 }
 
-int kt_plan_state_restrict(kt_plan_state *st, const kt_plan *p, const kt_plan_factor *F,
+int kt_plan_state_restrict(kt_plan_state *st, const kt_edits_plan *p, const kt_plan_factor *F,
                            const unsigned char *nodes, kt_err *e)
 {
     free(st->want);

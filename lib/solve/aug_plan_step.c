@@ -102,7 +102,7 @@ static void pressure_view(kt_plan_state *s)
         memcpy(tet + (size_t)k * nv, m->tet + (size_t)s->pown[k] * nv, (size_t)nv * sizeof(int));
 }
 
-int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+int kt_plan_state_init(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                        const kt_aug_problem *prob, kt_err *e)
 {
     memset(s, 0, sizeof *s);
@@ -129,7 +129,7 @@ int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_plan_factor 
     return release_forces(s, prob, e);
 }
 
-int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e)
+int kt_plan_advance(kt_plan_state *s, const kt_edits_plan *p, kt_err *e)
 {
     double t0 = kt_now();
     const kt_step *st = &p->step[s->step];
@@ -171,7 +171,7 @@ static int loads(kt_plan_state *s, const kt_aug_problem *prob, kt_err *e)
 
 /* tf = T^T f (each variable sums its node's and descendants' loads); b = tf on the free
  * variables minus the lifting A(free, constrained) g of the variables present. */
-static void rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
+static void rhs(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F)
 {
     int n = 3 * s->mesh.nn;
     memset(s->tf, 0, (size_t)n * sizeof(double));
@@ -306,7 +306,7 @@ static double residual(const kt_plan_factor *F, int N, double fro, const double 
 /* The variables, the displacement u_c = u_parent + d_c, and K u - f at constrained DOFs
  * (each constrained variable's row of A gives the sum over the DOF and its constrained
  * descendants; its children's sums come off). */
-static void field(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
+static void field(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F)
 {
     int nn = s->mesh.nn, n = 3 * nn;
     for (int v = 0; v < n; v++) s->v[v] = F->pos[v] >= 0 ? s->x[F->pos[v]] : p->gv[v];
@@ -327,7 +327,7 @@ static void field(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
 
 /* The current step's loads and right-hand side s->b; *scale gets the largest load a variable
  * sums. */
-static int step_rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+static int step_rhs(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                     const kt_aug_problem *prob, double *scale, kt_err *e)
 {
     if (loads(s, prob, e)) return e->code;
@@ -337,7 +337,7 @@ static int step_rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
     return KT_OK;
 }
 
-int kt_plan_continue(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+int kt_plan_continue(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                      const kt_aug_problem *prob, kt_err *e)
 {
     double scale = 0;
@@ -345,7 +345,7 @@ int kt_plan_continue(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F
     return forward(s, F, F->nfree_at[s->step], s->b, 1, scale, e);
 }
 
-int kt_plan_solve(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+int kt_plan_solve(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                   const kt_aug_problem *prob, double tol, kt_err *e)
 {
     double t0 = kt_now(), ts[2] = {0, 0}, scale = 0;
@@ -382,12 +382,11 @@ int kt_plan_solve(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
     w->t_total = w->t_update + 1e3 * (t4 - t1);
     w->rel_residual = rel;
     w->verify_rel_diff = w->t_verify = NAN;
-    snprintf(w->refactor, sizeof w->refactor, "-");
     w->nnz_L = F->nnzL;
     return KT_OK;
 }
 
-int kt_plan_fresh(const kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
+int kt_plan_fresh(const kt_plan_state *s, const kt_edits_plan *p, const kt_aug_problem *prob,
                   double *u, double *t, kt_err *e)
 {
     double t0 = kt_now();

@@ -12,7 +12,7 @@ struct kt_solver {
     const kt_solver_backend *be;
     void *st;
     kt_aug_opts o;              /* as run (after a fallback) */
-    const kt_plan *plan;
+    const kt_edits_plan *plan;
     unsigned char *want;        /* nsteps+1: the steps solved */
     int last;                   /* the last of them */
     int step;
@@ -114,7 +114,7 @@ static int start(kt_solver *sv, const kt_solver_in *in, kt_err *e)
     return sv->be->create(&sv->st, &in2, none, sizeof none, e);
 }
 
-int kt_solver_create(kt_solver **out, const kt_aug_problem *prob, const kt_plan *plan,
+int kt_solver_create(kt_solver **out, const kt_aug_problem *prob, const kt_edits_plan *plan,
                      const kt_mesh *final, const kt_solver_opts *o, kt_err *e)
 {
     *out = NULL;

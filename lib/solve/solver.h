@@ -26,7 +26,7 @@ enum { KT_SOLVER_SOLVE = 0, KT_SOLVER_CARRY, KT_SOLVER_SKIP };
 /* What a backend gets at set-up. */
 typedef struct kt_solver_in {
     const kt_aug_problem *prob;      /* the intact problem */
-    const kt_plan *plan;             /* the whole stream, read and checked (kt_plan_check) */
+    const kt_edits_plan *plan;       /* the whole stream, read and checked (kt_edits_plan_check) */
     const kt_mesh *final;            /* the final cut mesh (valid during create only) */
     const unsigned char *out_final;  /* NULL, or the output set's nodes on the final mesh */
     const kt_aug_opts *o;
@@ -67,11 +67,11 @@ typedef struct kt_solver_opts {
 
 typedef struct kt_solver kt_solver;
 
-/* Set up the method on the problem and the plan (final: kt_plan_check's final mesh) and solve
+/* Set up the method on the problem and the plan (final: kt_edits_plan_check's final mesh) and solve
  * step 0. When the planned method does not apply, the run falls back (to augmented when the
  * plan breaks its form, to refactor with METIS when its factor is too large) and
  * kt_solver_fallback says why. An --output set the mesh lacks is KT_EINPUT. */
-int kt_solver_create(kt_solver **out, const kt_aug_problem *prob, const kt_plan *plan,
+int kt_solver_create(kt_solver **out, const kt_aug_problem *prob, const kt_edits_plan *plan,
                      const kt_mesh *final, const kt_solver_opts *o, kt_err *e);
 /* Apply the next step; *solved = 1 when it is solved (wanted), its field and row then ready. */
 int kt_solver_step(kt_solver *sv, int *solved, kt_err *e);

@@ -9,7 +9,7 @@
 #include <string.h>
 
 typedef struct planned {
-    const kt_plan *plan;
+    const kt_edits_plan *plan;
     const kt_aug_problem *prob;
     double tol;
     int quiet;

@@ -100,7 +100,6 @@ static void row(const opts *o, const kt_aug *A, const char *status, const kt_aug
     num(w->t_step3, "\t%.4f");
     num(tot, "\t%.4f");
     num(w->rel_residual, "\t%.3e");
-    printf("\t%s", w->refactor);
     num(w->verify_rel_diff, "\t%.3e");
     printf("\t%.0f\t%.3f\t%s\n", nnz, 1e3 * tf, status);
     fflush(stdout);
@@ -153,7 +152,7 @@ int main(int argc, char **argv)
     if (bench_problem_load(&p, o.mesh, o.scene ? o.scene : rd.h.scene, &e)) goto done;
     ap = kt_aug_problem_of(&p.mesh, &p.fem);
     printf("tag\tmethod\tstep\tn_dofs\tm\tnew_dofs\titers\tclosure_max\tt_update_ms\tt_step1_ms\t"
-           "t_step2_ms\tt_step3_ms\tt_total_ms\trel_residual\trefactor\tverify_rel_diff\tnnz_L\t"
+           "t_step2_ms\tt_step3_ms\tt_total_ms\trel_residual\tverify_rel_diff\tnnz_L\t"
            "t_factor_ms\tstatus\n");
     double t0 = kt_now();
     if (kt_aug_create(&A, &ap, &o.aug, &e)) goto done;
@@ -164,7 +163,7 @@ int main(int argc, char **argv)
     int rc;
     while ((rc = kt_edits_next(&rd, &st, &e)) == 1 && st.index <= o.max_steps) {
         if (kt_now() - t0 > o.budget) {
-            printf("%s\t%s\t%d\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\t-\tNaN\tNaN"
+            printf("%s\t%s\t%d\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN\tNaN"
                    "\tNaN\tbudget\n", o.tag, kt_aug_method_name(o.aug.method), st.index);
             continue;
         }

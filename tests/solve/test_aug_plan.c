@@ -67,13 +67,13 @@ static int write_stream(const scenario *s, FILE *f, int *nsteps, kt_err *e)
     return e->code;
 }
 
-static int read_plan(FILE *f, kt_plan *p, kt_err *e)
+static int read_plan(FILE *f, kt_edits_plan *p, kt_err *e)
 {
     rewind(f);
     kt_edits_reader r;
     memset(p, 0, sizeof *p);
     if (kt_edits_open(&r, f, "stream", e)) return e->code;
-    return kt_plan_read(p, &r, e);
+    return kt_edits_plan_read(p, &r, e);
 }
 
 static void check_equilibrium(const kt_plan_state *S, int k)
@@ -134,13 +134,14 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
                     int unsorted, const char *name)
 {
     kt_err e = {0};
-    kt_plan p;
+    kt_edits_plan p;
     kt_mesh final = {0};
     kt_plan_factor F = {0};
     kt_plan_state S = {0};
     int checked = 0, splits2 = 0;
     CHECK(read_plan(f, &p, &e) == KT_OK, "%s: read: %s", name, e.msg);
-    CHECK(kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK, "%s: check: %s", name, e.msg);
+    CHECK(kt_edits_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK, "%s: check: %s", name,
+          e.msg);
     CHECK(p.usable, "%s: plan refused: %s", name, p.why);
     for (int a = p.nn0; a < p.nn; a++) splits2 += p.parent[a] >= p.nn0;
     CHECK(splits2 > 0, "%s: the stream splits no node twice", name);
@@ -217,7 +218,7 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
     kt_plan_state_free(&S);
     kt_plan_factor_free(&F);
     kt_mesh_free(&final);
-    kt_plan_free(&p);
+    kt_edits_plan_free(&p);
     return checked;
 }
 
@@ -251,16 +252,17 @@ static void check_validation(scenario *s)
              a + 1, s->mesh.nn + 1, with + 1, a + 1, s->mesh.nn + 2, with + 1, without + 1);
     FILE *f = text_stream(s, body);
     kt_err e = {0};
-    kt_plan p;
+    kt_edits_plan p;
     kt_mesh final = {0};
     CHECK(read_plan(f, &p, &e) == KT_OK, "bad tet: read: %s", e.msg);
-    CHECK(kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_EINPUT, "bad tet: not refused");
+    CHECK(kt_edits_plan_check(&p, "stream", &s->prob, &final, &e) == KT_EINPUT,
+          "bad tet: not refused");
     char want[64];
     snprintf(want, sizeof want, "stream:8:");
     CHECK(strncmp(e.msg, want, strlen(want)) == 0 && strstr(e.msg, "does not hold"),
           "bad tet: message '%s'", e.msg);
     kt_mesh_free(&final);
-    kt_plan_free(&p);
+    kt_edits_plan_free(&p);
     fclose(f);
     /* a fix edit changes the intact block: usable = 0, with its line */
     snprintf(body, sizeof body, "step 1\ndup %d %d 1 %d\nend\nstep 2\nfix %d x 0.001\nend\n",
@@ -268,11 +270,12 @@ static void check_validation(scenario *s)
     f = text_stream(s, body);
     e = (kt_err){0};
     CHECK(read_plan(f, &p, &e) == KT_OK, "fix: read: %s", e.msg);
-    CHECK(kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK, "fix: check: %s", e.msg);
+    CHECK(kt_edits_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK, "fix: check: %s",
+          e.msg);
     CHECK(!p.usable && strncmp(p.why, "stream:8:", 9) == 0 && strstr(p.why, "fixes node"),
           "fix: usable %d why '%s'", p.usable, p.why);
     kt_mesh_free(&final);
-    kt_plan_free(&p);
+    kt_edits_plan_free(&p);
     fclose(f);
 }
 
@@ -283,10 +286,11 @@ static void check_validation(scenario *s)
 static void check_size_refusal(scenario *s, FILE *f)
 {
     kt_err e = {0};
-    kt_plan p;
+    kt_edits_plan p;
     kt_mesh final = {0};
     kt_plan_factor F = {0};
-    CHECK(read_plan(f, &p, &e) == KT_OK && kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK,
+    CHECK(read_plan(f, &p, &e) == KT_OK &&
+              kt_edits_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK,
           "size: %s", e.msg);
     CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
                                KT_AUG_FACTOR_SUPERNODAL, 0, &e) == KT_OK && !F.refused,
@@ -309,7 +313,7 @@ static void check_size_refusal(scenario *s, FILE *f)
           "size: ratio %g refused at %g", r, 1.01 * r);
     kt_plan_factor_free(&F);
     kt_mesh_free(&final);
-    kt_plan_free(&p);
+    kt_edits_plan_free(&p);
 }
 
 int main(void)

@@ -16,7 +16,7 @@ static const int METHOD[] = {KT_AUG_PLANNED, KT_AUG_AUGMENTED, KT_AUG_REFACTOR, 
 
 /* The stream: the top NSTEPS layers split at x = 2h one after the other, forces on every
  * other step; read back as a plan and checked (final: the final cut mesh). */
-static int make_plan(const scenario *s, kt_plan *p, kt_mesh *final, kt_err *e)
+static int make_plan(const scenario *s, kt_edits_plan *p, kt_mesh *final, kt_err *e)
 {
     FILE *f = tmpfile();
     kt_mesh cur;
@@ -40,8 +40,8 @@ static int make_plan(const scenario *s, kt_plan *p, kt_mesh *final, kt_err *e)
     kt_edits_reader r;
     memset(p, 0, sizeof *p);
     rewind(f);
-    if (!e->code && !kt_edits_open(&r, f, "stream", e) && !kt_plan_read(p, &r, e))
-        kt_plan_check(p, "stream", &s->prob, final, e);
+    if (!e->code && !kt_edits_open(&r, f, "stream", e) && !kt_edits_plan_read(p, &r, e))
+        kt_edits_plan_check(p, "stream", &s->prob, final, e);
     fclose(f);
     return e->code;
 }
@@ -63,7 +63,7 @@ static kt_solver_opts opts(int method, const char *output)
 }
 
 /* Run method with output over every step; u[k] gets a copy of step k's field. */
-static int run(const scenario *s, const kt_plan *p, const kt_mesh *final, int method,
+static int run(const scenario *s, const kt_edits_plan *p, const kt_mesh *final, int method,
                const char *output, double **u, int *nn, kt_err *e)
 {
     kt_solver_opts o = opts(method, output);
@@ -88,7 +88,7 @@ static int run(const scenario *s, const kt_plan *p, const kt_mesh *final, int me
 
 /* The set's nodes on the current mesh of step k, from the plan (the intact mesh cut by steps
  * 1..k), independently of the front door. */
-static unsigned char *set_on(const scenario *s, const kt_plan *p, int k, const char *name)
+static unsigned char *set_on(const scenario *s, const kt_edits_plan *p, int k, const char *name)
 {
     kt_err e = {0};
     kt_mesh m;
@@ -109,7 +109,7 @@ static unsigned char *set_on(const scenario *s, const kt_plan *p, int k, const c
     return on;
 }
 
-static void test_output(const scenario *s, const kt_plan *p, const kt_mesh *final)
+static void test_output(const scenario *s, const kt_edits_plan *p, const kt_mesh *final)
 {
     kt_err e = {0};
     double *full[NSTEPS + 1] = {0};
@@ -159,7 +159,7 @@ static void test_output(const scenario *s, const kt_plan *p, const kt_mesh *fina
     for (int k = 0; k <= p->nsteps; k++) free(full[k]);
 }
 
-static void test_unknown_set(const scenario *s, const kt_plan *p, const kt_mesh *final)
+static void test_unknown_set(const scenario *s, const kt_edits_plan *p, const kt_mesh *final)
 {
     for (int m = 0; m < 5; m++) {
         kt_err e = {0};
@@ -184,7 +184,7 @@ int main(void)
     CHECK(kt_mesh_add_group(&beam.mesh, 3, 2, "top", &e) == KT_OK, "%s", e.msg);
     for (int t = 0; t < beam.mesh.ne; t++)
         if (tet_cx(&beam.mesh, t, 2) > beam.h * (beam.nz - 4)) beam.mesh.tet_tag[t] = 2;
-    kt_plan p;
+    kt_edits_plan p;
     kt_mesh final = {0};
     CHECK(make_plan(&beam, &p, &final, &e) == KT_OK && p.usable && p.nsteps == NSTEPS,
           "plan: %s %s", e.msg, p.why);
@@ -192,7 +192,7 @@ int main(void)
         test_output(&beam, &p, &final);
         test_unknown_set(&beam, &p, &final);
     }
-    kt_plan_free(&p);
+    kt_edits_plan_free(&p);
     kt_mesh_free(&final);
     scenario_free(&beam);
     return kt_test_done("test_solver");
