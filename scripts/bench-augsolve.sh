@@ -60,14 +60,14 @@ run_model() { # run_model NAME SCENE PLAN
     echo "# $name: $(grep -m1 '^dofs' "$W/$name.prep" | sed 's/  */ /g'); augmented: $AUG_OPTS; pcg: $PCG_OPTS"
     paste "$W/$name-augmented/steps.tsv" "$W/$name-refactor/steps.tsv" "$W/$name-pcg-jacobi/steps.tsv" |
         awk -F'\t' '
-        # augmented columns 1..16, refactor 17..32, pcg 33..48 (steps.tsv order)
+        # augmented columns 1..15, refactor 16..30, pcg 31..45 (steps.tsv order)
         NR == 1 { printf "%5s %6s %5s %8s %10s %10s %10s %10s %9s %9s %10s %10s\n", "step", "m",
                   "iters", "closure", "nnz(L)", "aug_ms", "refac_ms", "pcg_ms", "refac/aug",
                   "pcg/aug", "aug_diff", "pcg_diff"; next }
-        { ra = $27 / $11; rp = $43 / $11
+        { ra = $26 / $11; rp = $41 / $11
           printf "%5d %6d %5d %8d %10.3g %10.2f %10.1f %10.1f %9.1f %9.1f %10.2e %10.2e\n", $1, $3,
-                 $5, $6, $15, $11, $27, $43, ra, rp, $14, $46
-          if (NR > 2) { sa += $11; sr += $27; sp += $43; n++
+                 $5, $6, $14, $11, $26, $41, ra, rp, $13, $43
+          if (NR > 2) { sa += $11; sr += $26; sp += $41; n++
                         if (ra < minr || n == 1) minr = ra; if (rp < minp || n == 1) minp = rp } }
         END { if (n) printf "# steps 1..%d: mean ms aug %.2f, refactor %.1f, pcg %.1f; ratio of means refactor/aug %.1f, pcg/aug %.1f; worst step refactor/aug %.1f, pcg/aug %.1f\n", n, sa / n, sr / n, sp / n, sr / sa, sp / sa, minr, minp }'
 }

@@ -16,9 +16,9 @@
 #include "augsolve_run.h"
 
 #include "aug.h"
-#include "blas.h"
-#include "aug_plan.h"
+#include "solver.h"
 #include "bind.h"
+#include "blas.h"
 #include "msh.h"
 #include "physics.h"
 #include "runrec.h"
@@ -34,20 +34,10 @@ typedef struct run {
     kt_aug_problem prob;
     FILE *edits;
     kt_edits_reader rd;
-    kt_step step;
-    kt_aug *aug;
-    kt_plan plan;               /* the whole stream when it was read to its end */
-    int plan_read, next;        /* steps come from plan.step[next] */
-    kt_mesh final;              /* the planned method's final cut mesh */
-    kt_plan_factor F;
-    kt_plan_state S;
-    unsigned char *want;        /* nsteps+1: steps to write (planned: to solve) */
-    unsigned char *outmask;     /* nodes of the --output surface (planned), NULL: all */
-    double *ufresh;
-    const char *fallback;       /* why the planned method did not apply */
-    int fallback_method;        /* and what runs instead */
-    char why[256];              /* the fallback's reason when the factor was refused */
-    double t_setup;             /* ms: the planned method's assembly, ordering, factorization */
+    kt_edits_plan plan;               /* the whole stream, read to its end and checked */
+    kt_mesh final;              /* its final cut mesh */
+    unsigned char *want;        /* nsteps+1: steps to write (--steps) */
+    kt_solver *sv;
     kt_out tsv;
     int tsv_open;
     char scene_path[PATH_MAX];
@@ -60,15 +50,10 @@ typedef struct run {
 
 static void run_free(run *r)
 {
-    kt_aug_free(r->aug);
-    kt_step_free(&r->step);
-    kt_plan_state_free(&r->S);
-    kt_plan_factor_free(&r->F);
+    kt_solver_free(r->sv);
     kt_mesh_free(&r->final);
-    kt_plan_free(&r->plan);
+    kt_edits_plan_free(&r->plan);
     free(r->want);
-    free(r->outmask);
-    free(r->ufresh);
     if (r->edits && r->edits != stdin) fclose(r->edits);
     if (r->tsv_open) kt_out_abort(&r->tsv);
     kt_fem_problem_free(&r->fem);
@@ -180,59 +165,57 @@ static int open_edits(run *r, const char *path, const char *mesh, kt_err *e)
     return KT_OK;
 }
 
-/* Materials, fixation and pressures of the scene on this mesh, with its physics (fibre
- * matrices, the prestress of the measured geometry): kt_physics_problem. */
-static int load_problem(run *r, const char *scene, kt_err *e)
+/* Materials, fixation and pressures of the scene on this mesh, bound (kt_fem_bind: no solve);
+ * the physics (fibre matrices, the prestress solve) comes later, in solve_physics, once every
+ * input has been checked. */
+static int bind_problem(run *r, const char *scene, kt_err *e)
 {
     if (!scene || !scene[0])
         return kt_fail(e, KT_EINPUT, "%s: the edits header names no scene: give --scene",
                        r->rd.name);
     abs_path(scene, r->scene_path, sizeof r->scene_path);
-    if (kt_scene_load(scene, &r->scene, e) ||
-        kt_physics_problem(&r->scene, &r->mesh, &r->fem, &r->phys, e))
+    if (kt_scene_load(scene, &r->scene, e) || kt_fem_bind(&r->scene, &r->mesh, &r->fem, e))
         return e->code;
-    if (r->phys.prestressed)
-        kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
-               "apex membrane stress %.4g kPa\n", r->phys.t_build, 1000 * r->phys.sig_apex);
     r->prob = kt_aug_problem_of(&r->mesh, &r->fem);
     return KT_OK;
 }
 
-/* What a step writes: the cut mesh, its displacement, origins and reactions (NULL: none). */
-typedef struct view {
-    const kt_mesh *mesh;
-    int step;
-    const double *u, *react;
-    const int *origin;
-    const kt_aug_row *row;
-} view;
+/* The scene's physics on the bound problem (kt_physics_finish: the prestress of the measured
+ * geometry under its loads); the plan's prescribed values follow the problem's. */
+static int solve_physics(run *r, kt_err *e)
+{
+    if (kt_physics_finish(&r->scene, &r->mesh, &r->fem, &r->phys, e)) return e->code;
+    if (r->phys.prestressed) {
+        kt_edits_plan_zero_values(&r->plan);
+        kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
+               "apex membrane stress %.4g kPa\n", r->phys.t_build, 1000 * r->phys.sig_apex);
+    }
+    return KT_OK;
+}
 
-static int write_vtk(const kt_aug_run_opts *o, const view *v, const kt_physics *ph, kt_err *e)
+/* The step's VTK: the cut mesh, its displacement (NaN off the --output set), origins and
+ * reactions (none with --output), then the per-tet inputs of the physics (the cut keeps the
+ * tets, so step 0's fields hold on every step; keratome-vtk(5)). */
+static int write_vtk(run *r, const kt_aug_run_opts *o, kt_err *e)
 {
     if (!o->vtk) return KT_OK;
-    const kt_mesh *m = v->mesh;
+    const kt_mesh *m = kt_solver_mesh(r->sv);
+    const double *react = kt_solver_reaction(r->sv, e);
+    if (e->code) return e->code;
+    const int *org = kt_solver_origin(r->sv);
     char path[PATH_MAX];
-    snprintf(path, sizeof path, "%s/step-%04d.vtk", o->run_dir, v->step);
+    snprintf(path, sizeof path, "%s/step-%04d.vtk", o->run_dir, kt_solver_at(r->sv));
     double *origin = kt_calloc((size_t)m->nn, sizeof(double), e);
     if (!origin) return e->code;
-    for (int i = 0; i < m->nn; i++) origin[i] = v->origin[i] + 1;
-    kt_vtk_field f[3 + KT_PHYSICS_NFIELD] = {{"displacement", 3, 0, 0, (double *)v->u},
+    for (int i = 0; i < m->nn; i++) origin[i] = org[i] + 1;
+    kt_vtk_field f[3 + KT_PHYSICS_NFIELD] = {{"displacement", 3, 0, 0, (double *)kt_solver_u(r->sv)},
                                             {"origin", 1, 0, 1, origin},
-                                            {"reaction", 3, 0, 0, (double *)v->react}};
-    int nf = v->react ? 3 : 2; /* then the per-tet inputs of the physics (cut: same tets) */
-    for (int k = 0; k < ph->ncell; k++) f[nf++] = ph->cell[k];
+                                            {"reaction", 3, 0, 0, (double *)react}};
+    int nf = react ? 3 : 2;
+    for (int k = 0; k < r->phys.ncell; k++) f[nf++] = r->phys.cell[k];
     kt_vtk_write_tets(path, m, f, nf, o->binary, e);
     free(origin);
     return e->code;
-}
-
-/* The iterative methods' step as a view; reactions need u around the supports. */
-static int aug_view(run *r, const kt_aug_run_opts *o, view *v, kt_err *e)
-{
-    *v = (view){kt_aug_mesh(r->aug), kt_aug_last(r->aug)->step, kt_aug_displacement(r->aug),
-                NULL, kt_aug_origin(r->aug), kt_aug_last(r->aug)};
-    if (o->vtk && !o->aug.output[0] && !(v->react = kt_aug_reaction(r->aug, e))) return e->code;
-    return KT_OK;
 }
 
 static void tsv_num(FILE *f, double v, const char *fmt)
@@ -253,7 +236,7 @@ static void write_row(run *r, const kt_aug_row *w)
     }
     fputc('\t', f);
     tsv_num(f, w->rel_residual, "%.3e");
-    fprintf(f, "\t%s\t", w->refactor);
+    fputc('\t', f);
     tsv_num(f, w->verify_rel_diff, "%.3e");
     fprintf(f, "\t%.0f\t", w->nnz_L);
     tsv_num(f, w->t_verify, "%.1f");
@@ -264,11 +247,9 @@ static void progress(const kt_aug_row *w, int quiet)
 {
     if (quiet) return;
     int tty = isatty(STDERR_FILENO);
-    if (!tty && w->step % 10 != 0 && strcmp(w->refactor, "-") == 0) return;
-    fprintf(stderr, "%saugsolve: step %d: %d DOFs, m %d, %d iterations, %.2f ms%s%s%s", tty ? "\r" : "",
-            w->step, w->n_dofs, w->m, w->iters, w->t_total,
-            strcmp(w->refactor, "-") ? ", refactor " : "", strcmp(w->refactor, "-") ? w->refactor : "",
-            tty ? "   " : "\n");
+    if (!tty && w->step % 10 != 0) return;
+    fprintf(stderr, "%saugsolve: step %d: %d DOFs, m %d, %d iterations, %.2f ms%s", tty ? "\r" : "",
+            w->step, w->n_dofs, w->m, w->iters, w->t_total, tty ? "   " : "\n");
 }
 
 /* A YAML double-quoted scalar: paths may hold ':' '#' or be "-", which plain scalars can't;
@@ -288,6 +269,7 @@ static void yaml_str(FILE *f, const char *key, const char *v)
 
 static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e)
 {
+    const kt_aug_opts *a = kt_solver_opts_used(r->sv); /* the method that ran */
     char path[PATH_MAX], buf[PATH_MAX];
     snprintf(path, sizeof path, "%s/run.yaml", o->run_dir);
     kt_out out;
@@ -303,17 +285,17 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     }
     kt_path_relative(o->edits, o->run_dir, buf, sizeof buf);
     yaml_str(out.f, "edits", buf);
-    fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(o->aug.method),
+    fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(a->method),
             r->mesh.order, steps);
     /* what curvature cross-checks: the mesh's content hash and node count, the plan's bytes */
     fprintf(out.f, "mesh_hash: \"%016" PRIx64 "\"\nmesh_nodes: %d\n", kt_mesh_hash(&r->mesh),
             r->mesh.nn);
     if (r->has_plan_hash) fprintf(out.f, "plan_hash: \"%016llx\"\n", r->plan_hash);
     static const char *const ORD[] = {"natural", "amd", "metis"};
-    fprintf(out.f, "tol: %g\nordering: %s\nfactor: %s\n", o->aug.tol, ORD[o->aug.ordering],
-            o->aug.factor == KT_AUG_FACTOR_SIMPLICIAL ? "simplicial" : "supernodal");
+    fprintf(out.f, "tol: %g\nordering: %s\nfactor: %s\n", a->tol, ORD[a->ordering],
+            a->factor == KT_AUG_FACTOR_SIMPLICIAL ? "simplicial" : "supernodal");
     if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
-    if (r->fallback) yaml_str(out.f, "fallback", r->fallback);
+    if (kt_solver_fallback(r->sv)) yaml_str(out.f, "fallback", kt_solver_fallback(r->sv));
     if (o->steps) yaml_str(out.f, "written_steps", o->steps);
     if (kt_runrec_write(out.f, o->run_dir, &r->mesh, &r->scene, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
@@ -326,7 +308,7 @@ static int open_tsv(run *r, const kt_aug_run_opts *o, kt_err *e)
     if (kt_out_open(&r->tsv, path, e)) return e->code;
     r->tsv_open = 1;
     fputs("step\tn_dofs\tm\tnew_dofs\titers\tclosure_max\tt_update_ms\tt_step1_ms\tt_step2_ms\t"
-          "t_step3_ms\tt_total_ms\trel_residual\trefactor\tverify_rel_diff\tnnz_L\tt_verify_ms\n", r->tsv.f);
+          "t_step3_ms\tt_total_ms\trel_residual\tverify_rel_diff\tnnz_L\tt_verify_ms\n", r->tsv.f);
     return KT_OK;
 }
 
@@ -375,165 +357,58 @@ static int parse_steps(run *r, const char *list, int nsteps, kt_err *e)
     return KT_OK;
 }
 
-static int next_step(run *r, kt_err *e)
+/* A solved step: its VTK, its row, the progress line. */
+static int write_step(run *r, const kt_aug_run_opts *o, kt_err *e)
 {
-    if (!r->plan_read) return kt_edits_next(&r->rd, &r->step, e);
-    if (r->next == r->plan.nsteps) return 0;
-    kt_step_clear(&r->step);
-    const kt_step *s = &r->plan.step[r->next++];
-    r->step.index = s->index;
-    memcpy(r->step.label, s->label, sizeof r->step.label);
-    for (int i = 0; i < s->n; i++)
-        if (kt_step_add(&r->step, &s->edit[i], e)) return -1;
-    return 1;
+    if (write_vtk(r, o, e)) return e->code;
+    write_row(r, kt_solver_row(r->sv));
+    progress(kt_solver_row(r->sv), o->aug.quiet);
+    return KT_OK;
 }
 
-/* The iterative methods and the baselines: each step solved as it arrives. */
-static int run_stream(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
+/* Every step of the plan through the front door (solver.h); *steps counts those applied. */
+static int solve_steps(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
 {
-    view v;
-    if (kt_aug_create(&r->aug, &r->prob, &o->aug, e) || aug_view(r, o, &v, e) ||
-        write_vtk(o, &v, &r->phys, e))
-        return e->code;
-    write_row(r, v.row);
-    progress(v.row, o->aug.quiet);
-    int rc;
-    while ((rc = next_step(r, e)) == 1) {
-        if (kt_aug_step(r->aug, &r->step, e)) return e->code;
+    kt_solver_opts so = {o->aug, o->plan_max_ratio, r->want};
+    if (kt_solver_create(&r->sv, &r->prob, &r->plan, &r->final, &so, e)) return e->code;
+    kt_mesh_free(&r->final);
+    const char *why = kt_solver_fallback(r->sv);
+    if (why)
+        fprintf(stderr, "augsolve: the planned method does not apply (%s): falling back to "
+                "--method %s\n", why, kt_solver_method(r->sv) == KT_AUG_REFACTOR
+                ? "refactor --ordering metis" : "augmented");
+    if (write_step(r, o, e)) return e->code;
+    for (int k = 1; k <= r->plan.nsteps; k++) {
+        int solved = 0;
+        if (kt_solver_step(r->sv, &solved, e)) return e->code;
         (*steps)++;
-        if (r->want && (r->step.index > r->plan.nsteps || !r->want[r->step.index])) continue;
-        if (aug_view(r, o, &v, e) || write_vtk(o, &v, &r->phys, e)) return e->code;
-        write_row(r, v.row);
-        progress(v.row, o->aug.quiet);
+        if (solved && write_step(r, o, e)) return e->code;
     }
-    return rc < 0 ? e->code : KT_OK;
-}
-
-/* Nodes of the --output surface on the current cut mesh. */
-static int output_nodes(run *r, const char *name, kt_err *e)
-{
-    const kt_mesh *m = &r->S.mesh;
-    const kt_group *g = kt_mesh_find_group(m, 2, name);
-    if (!g) return kt_fail(e, KT_EINPUT, "--output %s: expected a surface group of the mesh", name);
-    free(r->outmask);
-    if (!(r->outmask = kt_calloc((size_t)m->nn, 1, e))) return e->code;
-    int fv = kt_tri_nv(m->order);
-    for (int t = 0; t < m->nf; t++)
-        if (m->tri_tag[t] == g->tag)
-            for (int a = 0; a < fv; a++) r->outmask[m->tri[(size_t)t * fv + a]] = 1;
     return KT_OK;
 }
 
-/* --verify: the step against a fresh factorization of the cut mesh, over the output nodes. */
-static int verify_planned(run *r, const kt_aug_run_opts *o, kt_err *e)
+/* Everything that can be checked before the first solve, cheapest first: option conflicts,
+ * the mesh, the stream's header, the scene, --output, the run folder (claimed as soon as the
+ * header is known good: a re-run's old result goes at once), then every step of the stream
+ * (read to its end and applied to a copy of the mesh: cutplan never waits on augsolve) and
+ * --steps. Nothing is solved before all of it passes. */
+static int check_inputs(run *r, const kt_aug_run_opts *o, kt_err *e)
 {
-    double t, dmax = 0, rmax = 0;
-    if (kt_plan_fresh(&r->S, &r->plan, &r->prob, r->ufresh, &t, e)) return e->code;
-    for (int i = 0; i < 3 * r->S.mesh.nn; i++) {
-        if (r->outmask && !r->outmask[i / 3]) continue;
-        dmax = kt_nanmax(dmax, fabs(r->S.u[i] - r->ufresh[i]));
-        rmax = kt_nanmax(rmax, fabs(r->ufresh[i]));
-    }
-    r->S.row.verify_rel_diff = rmax == 0 ? dmax : dmax / rmax;
-    r->S.row.t_verify = 1e3 * t;
-    if (!(r->S.row.verify_rel_diff <= o->aug.verify_tol))
-        return kt_fail(e, KT_ERUN, "step %d: --verify: planned and a fresh factorization differ by "
-                       "%.3g (relative, max norm) > --verify-tol %.3g", r->S.step,
-                       r->S.row.verify_rel_diff, o->aug.verify_tol);
-    return KT_OK;
-}
-
-static int planned_step(run *r, const kt_aug_run_opts *o, kt_err *e)
-{
-    if (kt_plan_solve(&r->S, &r->plan, &r->F, &r->prob, o->aug.tol, e)) return e->code;
-    if (r->S.step == 0) { /* step 0's row holds the factorization, as the other methods' */
-        r->S.row.t_update += r->t_setup;
-        r->S.row.t_total += r->t_setup;
-    }
-    if (o->aug.output[0]) {
-        if (output_nodes(r, o->aug.output, e)) return e->code;
-        for (int i = 0; i < 3 * r->S.mesh.nn; i++)
-            if (!r->outmask[i / 3]) r->S.u[i] = NAN;
-    }
-    if (o->aug.verify && verify_planned(r, o, e)) return e->code;
-    view v = {&r->S.mesh, r->S.step, r->S.u, o->aug.output[0] ? NULL : r->S.react,
-              r->S.origin, &r->S.row};
-    if (write_vtk(o, &v, &r->phys, e)) return e->code;
-    write_row(r, v.row);
-    progress(v.row, o->aug.quiet);
-    return KT_OK;
-}
-
-/* --output SET: the back substitution limited to what the set's nodes on the final mesh need
- * (they and their ancestors cover the set on every step's mesh). */
-static int restrict_output(run *r, const kt_aug_run_opts *o, kt_err *e)
-{
-    if (!o->aug.output[0]) return KT_OK;
-    const kt_mesh *m = &r->final;
-    const kt_group *g = kt_mesh_find_group(m, 2, o->aug.output);
-    if (!g) return kt_fail(e, KT_EINPUT, "--output %s: expected a surface group of the mesh",
-                           o->aug.output);
-    unsigned char *nodes = kt_calloc((size_t)m->nn, 1, e);
-    if (!nodes) return e->code;
-    int fv = kt_tri_nv(m->order);
-    for (int t = 0; t < m->nf; t++)
-        if (m->tri_tag[t] == g->tag)
-            for (int a = 0; a < fv; a++) nodes[m->tri[(size_t)t * fv + a]] = 1;
-    kt_plan_factor_restrict(&r->F, &r->plan, nodes, e);
-    free(nodes);
-    return e->code;
-}
-
-/* The planned method: the whole stream, checked, one factorization, then each wanted step.
- * Returns KT_OK with r->fallback set when the plan does not allow it. */
-static int run_planned(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
-{
-    if (kt_plan_read(&r->plan, &r->rd, e)) return e->code;
-    r->plan_read = 1;
-    if (kt_plan_check(&r->plan, r->rd.name, &r->prob, &r->final, e) ||
+    if (o->aug.method == KT_AUG_AUGMENTED && o->aug.factor == KT_AUG_FACTOR_SIMPLICIAL)
+        return kt_fail(e, KT_EINPUT, "--factor simplicial: the augmented method factors the "
+                       "intact stiffness supernodally (its W columns are kept by supernode)");
+    if (kt_msh_read(o->mesh, &r->mesh, e) || open_edits(r, o->edits, o->mesh, e) ||
+        bind_problem(r, o->scene ? o->scene : r->rd.h.scene, e))
+        return e->code;
+    if (o->aug.output[0] && !kt_mesh_find_group(&r->mesh, 2, o->aug.output) &&
+        !kt_mesh_find_group(&r->mesh, 3, o->aug.output))
+        return kt_fail(e, KT_EINPUT, "--output %s: no surface or region of that name in the mesh",
+                       o->aug.output);
+    if (claim_run_dir(r, o->run_dir, e) || open_tsv(r, o, e) ||
+        kt_edits_plan_read(&r->plan, &r->rd, e) ||
+        kt_edits_plan_check(&r->plan, r->rd.name, &r->prob, &r->final, e) ||
         parse_steps(r, o->steps, r->plan.nsteps, e))
         return e->code;
-    if (!r->plan.usable) {
-        r->fallback = r->plan.why;
-        r->fallback_method = KT_AUG_AUGMENTED;
-        return KT_OK;
-    }
-    if (kt_plan_factor_build(&r->F, &r->plan, &r->final, &r->fem.mats, o->aug.ordering,
-                             o->aug.factor, o->plan_max_ratio, e))
-        return e->code;
-    if (r->F.refused) { /* a fresh METIS factorization per step is cheaper and as exact */
-        snprintf(r->why, sizeof r->why, "%s", r->F.why);
-        r->fallback = r->why;
-        r->fallback_method = KT_AUG_REFACTOR;
-        kt_plan_factor_free(&r->F);
-        kt_mesh_free(&r->final);
-        return KT_OK;
-    }
-    r->t_setup = 1e3 * (r->F.t_assemble + r->F.t_order + r->F.t_factor);
-    if (kt_plan_state_init(&r->S, &r->plan, &r->prob, e) || restrict_output(r, o, e))
-        return e->code;
-    kt_mesh_free(&r->final);
-    if (o->aug.verify && !(r->ufresh = kt_calloc(3 * (size_t)r->plan.nn, sizeof(double), e)))
-        return e->code;
-    kt_log(o->aug.quiet, "augsolve: planned: %d steps, %d free DOFs + %d increments, factor %.0f "
-           "nonzeros (%.3gx METIS on the intact block; flops %.3gx) in %.2f s (assembly %.2f s, "
-           "ordering %.2f s)\n", r->plan.nsteps, r->F.nK, r->F.nfree - r->F.nK, r->F.nnzL,
-           r->F.lnz_plan / r->F.lnz_ref, r->F.fl_plan / r->F.fl_ref, r->F.t_factor,
-           r->F.t_assemble, r->F.t_order);
-    if (planned_step(r, o, e)) return e->code;
-    int last = 0; /* the last step to write; a step before it that is not written still
-                     continues the forward substitution (bitwise the fields of a full run) */
-    for (int k = 1; k <= r->plan.nsteps; k++)
-        if (r->want[k]) last = k;
-    for (int k = 1; k <= r->plan.nsteps; k++) {
-        if (kt_plan_advance(&r->S, &r->plan, e)) return e->code;
-        (*steps)++;
-        if (r->want[k] && planned_step(r, o, e)) return e->code;
-        if (!r->want[k] && k < last && kt_plan_continue(&r->S, &r->plan, &r->F, &r->prob, e))
-            return e->code;
-    }
-    kt_log(o->aug.quiet, "augsolve: planned: %d of the %d steps after step 0 continued its forward "
-           "substitution (the others started it over)\n", r->F.ncont, last);
     return KT_OK;
 }
 
@@ -548,26 +423,8 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     if (!r) return e->code;
     int steps = 0;
     r->quiet = o.aug.quiet;
-    if (kt_msh_read(o.mesh, &r->mesh, e) || open_edits(r, o.edits, o.mesh, e) ||
-        load_problem(r, o.scene ? o.scene : r->rd.h.scene, e) || claim_run_dir(r, o.run_dir, e) ||
-        open_tsv(r, &o, e))
+    if (check_inputs(r, &o, e) || solve_physics(r, e) || solve_steps(r, &o, &steps, e))
         goto done;
-    if (o.aug.method == KT_AUG_PLANNED) {
-        if (run_planned(r, &o, &steps, e)) goto done;
-        if (r->fallback) {
-            int ref = r->fallback_method == KT_AUG_REFACTOR;
-            fprintf(stderr, "augsolve: the planned method does not apply (%s): falling back to "
-                    "--method %s\n", r->fallback, ref ? "refactor --ordering metis" : "augmented");
-            o.aug.method = r->fallback_method;
-            if (ref) o.aug.ordering = KT_AUG_ORDER_METIS;
-            else o.aug.factor = KT_AUG_FACTOR_SUPERNODAL; /* its W is kept by supernode */
-        }
-    } else if (o.steps) {
-        if (kt_plan_read(&r->plan, &r->rd, e) || parse_steps(r, o.steps, r->plan.nsteps, e))
-            goto done;
-        r->plan_read = 1;
-    }
-    if (o.aug.method != KT_AUG_PLANNED && run_stream(r, &o, &steps, e)) goto done;
     if (kt_out_commit(&r->tsv, e)) goto done;
     r->tsv_open = 0;
     if (write_run_yaml(r, &o, steps, e)) { /* no result without its run.yaml: take back the table */

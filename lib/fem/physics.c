@@ -144,18 +144,15 @@ int kt_physics_build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt
     return KT_OK;
 }
 
-int kt_physics_problem(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
-                       kt_err *e)
+int kt_physics_finish(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                      kt_err *e)
 {
-    memset(ph, 0, sizeof *ph);
-    if (kt_fem_bind(s, m, fp, e)) return e->code;
     cholmod_common c;
     cholmod_start(&c);
     kt_physics_build(s, m, fp, ph, &c, e);
     cholmod_finish(&c);
     if (e->code) {
         kt_physics_free(ph);
-        kt_fem_problem_free(fp);
         return e->code;
     }
     if (ph->prestressed) {
@@ -163,4 +160,13 @@ int kt_physics_problem(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, 
         for (int k = 0; k < fp->nfix; k++) memset(fp->fix[k].v, 0, sizeof fp->fix[k].v);
     }
     return KT_OK;
+}
+
+int kt_physics_problem(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                       kt_err *e)
+{
+    memset(ph, 0, sizeof *ph);
+    if (kt_fem_bind(s, m, fp, e)) return e->code;
+    if (kt_physics_finish(s, m, fp, ph, e)) kt_fem_problem_free(fp);
+    return e->code;
 }

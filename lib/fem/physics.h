@@ -53,5 +53,11 @@ int kt_physics_cell_fields(kt_physics *ph, const kt_mesh *m, kt_err *e);
  * On failure fp and ph hold nothing to free. */
 int kt_physics_problem(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
                        kt_err *e);
+/* The second half of kt_physics_problem, for a caller that checks its input against the bound
+ * problem fp (kt_fem_bind, cheap) before the prestress solve: ph := kt_physics_build, then the
+ * prescribed values zeroed as above. On failure ph holds nothing to free; fp stays the
+ * caller's. */
+int kt_physics_finish(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                      kt_err *e);
 
 #endif

@@ -75,7 +75,7 @@ const double *kt_aug_reaction(kt_aug *A, kt_err *e)
     aug_col col[3] = {{0}};
     for (int a = 0; a < nn && !e->code; a++) {
         if (!(s->cons[3 * a] | s->cons[3 * a + 1] | s->cons[3 * a + 2]) ||
-            aug_node_columns(s, a, col, e))
+            kt_aug_node_columns(s, a, col, e))
             continue;
         for (int c = 0; c < 3; c++) {
             int j = 3 * a + c;
@@ -85,7 +85,7 @@ const double *kt_aug_reaction(kt_aug *A, kt_err *e)
             A->react[j] = r;
         }
     }
-    for (int c = 0; c < 3; c++) aug_col_free(&col[c]);
+    for (int c = 0; c < 3; c++) kt_aug_col_free(&col[c]);
     if (e->code) return NULL;
     A->react_valid = 1;
     return A->react;
@@ -119,26 +119,6 @@ static int out_grow(kt_aug *A, int nn_old, kt_err *e)
     return KT_OK;
 }
 
-/* The --output set's DOFs on the current mesh. */
-static int output_mask(kt_aug *A, kt_err *e)
-{
-    if (!A->o.output[0]) return KT_OK;
-    const kt_mesh *m = &A->s.mesh;
-    const kt_group *g = kt_mesh_find_group(m, 2, A->o.output);
-    if (!g) g = kt_mesh_find_group(m, 3, A->o.output);
-    if (!g)
-        return kt_fail(e, KT_EINPUT, "--output %s: no surface or region of that name in the mesh",
-                       A->o.output);
-    free(A->outmask);
-    if (!(A->outmask = kt_calloc(3 * (size_t)m->nn, 1, e))) return e->code;
-    int *nodes = NULL, cnt = 0;
-    if (kt_mesh_group_nodes(m, g, &nodes, &cnt, e)) return e->code;
-    for (int k = 0; k < cnt; k++)
-        for (int c = 0; c < 3; c++) A->outmask[3 * nodes[k] + c] = 1;
-    free(nodes);
-    return KT_OK;
-}
-
 /* ------------------------------------------------------------------- a step */
 
 static void row_start(kt_aug *A)
@@ -146,7 +126,6 @@ static void row_start(kt_aug *A)
     memset(&A->row, 0, sizeof A->row);
     A->row.step = A->s.step;
     A->row.rel_residual = A->row.verify_rel_diff = A->row.t_verify = NAN;
-    strcpy(A->row.refactor, "-");
 }
 
 static void row_finish(kt_aug *A, int nn_before)
@@ -167,45 +146,28 @@ static void row_finish(kt_aug *A, int nn_before)
 static int solve_method(kt_aug *A, kt_err *e)
 {
     switch (A->o.method) {
-    case KT_AUG_AUGMENTED: return aug_solve_augmented(A, e);
-    case KT_AUG_REFACTOR: return aug_solve_refactor(A, e);
-    case KT_AUG_CG: return aug_solve_cg(A, 0, e);
-    case KT_AUG_PCG_JACOBI: return aug_solve_cg(A, 1, e);
+    case KT_AUG_AUGMENTED: return kt_aug_solve_augmented(A, e);
+    case KT_AUG_REFACTOR: return kt_aug_solve_refactor(A, e);
+    case KT_AUG_CG: return kt_aug_solve_cg(A, 0, e);
+    case KT_AUG_PCG_JACOBI: return kt_aug_solve_cg(A, 1, e);
     }
     return kt_fail(e, KT_EINPUT, "method %s does not solve a stream step by step",
                    kt_aug_method_name(A->o.method));
 }
 
-/* A fresh factorization (METIS, what a user would run) compared on the output DOFs. */
-static int verify(kt_aug *A, kt_err *e)
+int kt_aug_fresh(kt_aug *A, double *u, double *t, kt_err *e)
 {
-    int n = 3 * A->s.mesh.nn;
-    double *ref = kt_calloc((size_t)n, sizeof(double), e), relres = NAN, t0 = kt_now();
-    if (!ref) return e->code;
-    if (aug_fresh_solve(A, 0, ref, NULL, &relres, e) == KT_OK) {
-        A->row.t_verify = aug_ms(kt_now() - t0);
-        double dmax = 0, rmax = 0;
-        for (int i = 0; i < n; i++) {
-            if (A->outmask && !A->outmask[i]) continue;
-            dmax = kt_nanmax(dmax, fabs(A->u[i] - ref[i]));
-            rmax = kt_nanmax(rmax, fabs(ref[i]));
-        }
-        A->row.verify_rel_diff = rmax == 0 ? dmax : dmax / rmax;
-        if (!(A->row.verify_rel_diff <= A->o.verify_tol))
-            kt_fail(e, KT_ERUN, "step %d: --verify: %s and a fresh factorization differ by %.3g "
-                    "(relative, max norm) > --verify-tol %.3g", A->s.step,
-                    kt_aug_method_name(A->o.method), A->row.verify_rel_diff, A->o.verify_tol);
-    }
-    free(ref);
+    double relres = NAN, t0 = kt_now();
+    kt_aug_fresh_solve(A, 0, u, NULL, &relres, e);
+    *t = kt_now() - t0;
     return e->code;
 }
 
-static int after_solve(kt_aug *A, int nn_before, kt_err *e)
+/* The step's row, and its field kept as the next step's starting guess (CG). */
+static void after_solve(kt_aug *A, int nn_before)
 {
     row_finish(A, nn_before);
-    if (A->o.verify && verify(A, e)) return e->code;
     memcpy(A->uprev, A->u, 3 * (size_t)A->s.mesh.nn * sizeof(double));
-    return KT_OK;
 }
 
 int kt_aug_create(kt_aug **out, const kt_aug_problem *p, const kt_aug_opts *o, kt_err *e)
@@ -223,14 +185,15 @@ int kt_aug_create(kt_aug **out, const kt_aug_problem *p, const kt_aug_opts *o, k
     A->c_started = 1;
     row_start(A);
     double t0 = kt_now();
-    if (aug_stream_init(&A->s, p, e) || out_grow(A, 0, e) || output_mask(A, e)) goto fail;
+    if (kt_aug_stream_init(&A->s, p, e) || out_grow(A, 0, e)) goto fail;
     if (A->o.method == KT_AUG_AUGMENTED) {
-        if (aug_intact_build(&A->F, &A->s, A->o.ordering, &A->c, e)) goto fail;
+        if (kt_aug_intact_build(&A->F, &A->s, A->o.ordering, &A->c, e)) goto fail;
         A->have_factor = 1;
-        if (aug_border_init(&A->B, &A->F, e)) goto fail;
+        if (kt_aug_border_init(&A->B, &A->F, e)) goto fail;
     }
-    A->row.t_update = aug_ms(kt_now() - t0);
-    if (solve_method(A, e) || after_solve(A, A->s.mesh.nn, e)) goto fail;
+    A->row.t_update = kt_aug_ms(kt_now() - t0);
+    if (solve_method(A, e)) goto fail;
+    after_solve(A, A->s.mesh.nn);
     *out = A;
     return KT_OK;
 fail:
@@ -245,36 +208,35 @@ int kt_aug_step(kt_aug *A, const kt_step *st, kt_err *e)
                        A->s.step, A->s.step + 1);
     int nn_before = A->s.mesh.nn, *newc = NULL, nc = 0;
     double t0 = kt_now();
-    if (aug_stream_apply(&A->s, st, &newc, &nc, e) || out_grow(A, nn_before, e) ||
-        output_mask(A, e)) {
+    if (kt_aug_stream_apply(&A->s, st, &newc, &nc, e) || out_grow(A, nn_before, e)) {
         free(newc);
         return e->code;
     }
     row_start(A);
     double t1 = kt_now();
     if (A->o.method == KT_AUG_AUGMENTED)
-        aug_border_append(&A->B, &A->F, &A->s, nn_before, newc, nc, e);
+        kt_aug_border_append(&A->B, &A->F, &A->s, nn_before, newc, nc, e);
     free(newc);
     if (e->code) return e->code;
-    A->row.t_update = aug_ms(t1 - t0);
-    A->row.t_step1 = aug_ms(kt_now() - t1);
+    A->row.t_update = kt_aug_ms(t1 - t0);
+    A->row.t_step1 = kt_aug_ms(kt_now() - t1);
     if (solve_method(A, e)) return e->code;
-    return after_solve(A, nn_before, e);
+    after_solve(A, nn_before);
+    return KT_OK;
 }
 
 void kt_aug_free(kt_aug *A)
 {
     if (!A) return;
-    aug_rhs_free(&A->r);
+    kt_aug_rhs_free(&A->r);
     if (A->have_factor) {
-        aug_border_free(&A->B, &A->F);
-        aug_intact_free(&A->F, &A->c);
+        kt_aug_border_free(&A->B, &A->F);
+        kt_aug_intact_free(&A->F, &A->c);
     }
-    aug_stream_free(&A->s);
+    kt_aug_stream_free(&A->s);
     free(A->u);
     free(A->react);
     free(A->uprev);
-    free(A->outmask);
     if (A->c_started) cholmod_finish(&A->c);
     free(A);
 }

@@ -22,8 +22,9 @@
 #include "bind.h"
 #include "mesh.h"
 
-/* KT_AUG_PLANNED (augsolve's default, aug_plan.h) runs in kt_aug_run only: it reads the whole
- * stream first. kt_aug_create solves a stream step by step with the other methods. */
+/* KT_AUG_PLANNED (augsolve's default, aug_plan.h) needs the whole stream first: it runs behind
+ * the front door only (solver.h), as every method does in augsolve. kt_aug_create solves a
+ * stream step by step with the other methods. */
 enum { KT_AUG_AUGMENTED = 1, KT_AUG_REFACTOR, KT_AUG_CG, KT_AUG_PCG_JACOBI, KT_AUG_PLANNED };
 /* KT_AUG_ORDER_DEFAULT (augsolve): metis for the planned and augmented methods, natural (the
  * mesh's order) for the baselines; kt_aug_opts_default itself gives natural */
@@ -39,9 +40,11 @@ typedef struct kt_aug_opts {
                         * ||r|| / (|| |A||x| || + ||b||); CG: relative residual
                         * ||(K u - f)_free|| / ||f_free|| */
     int maxit;         /* CG iteration cap; 0: 20000 */
+    /* the front door's (solver.h), for every method; kt_aug itself reads none of them: */
     int verify;        /* also factor the current K from scratch each step and compare */
     double verify_tol; /* exit 1 beyond this relative difference */
-    char output[KT_NAME_MAX]; /* "" for every node, else a surface group: u only on its nodes */
+    char output[KT_NAME_MAX]; /* "" for every node, else a surface or region: u only on its
+                               * nodes */
     int quiet;
 } kt_aug_opts;
 
@@ -84,7 +87,6 @@ typedef struct kt_aug_row {
     double t_update, t_step1, t_step2, t_step3, t_total;
     double rel_residual;      /* ||r|| / ||b|| of the system solved (baselines: its free rows) */
     double verify_rel_diff;   /* max |u - u_fresh| / max |u_fresh| over the output nodes */
-    char refactor[32];        /* "-" (kept as a column of steps.tsv) */
     double nnz_L;             /* nonzeros of the factor used: refactor its L; augmented
                                * L + W + the dense triangle of S; planned its L */
     double t_verify;          /* ms of the --verify fresh solve (assembly, METIS analysis,
@@ -97,13 +99,16 @@ typedef struct kt_aug kt_aug;
 int kt_aug_create(kt_aug **out, const kt_aug_problem *p, const kt_aug_opts *o, kt_err *e);
 /* Apply one step of edits and solve. Bad edits are KT_EINPUT, numerical failure KT_ERUN
  * (a backward error above tol after refinement, a CG that misses its tolerance, a factor
- * that is not positive definite or quasi-definite, a --verify difference above verify_tol). */
+ * that is not positive definite or quasi-definite). */
 int kt_aug_step(kt_aug *a, const kt_step *s, kt_err *e);
 void kt_aug_free(kt_aug *a);
+/* The current step solved from scratch (assembly, METIS, factorization, solve: what a user
+ * would run instead) into u (3 nn); *t gets the seconds it took. The --verify reference. */
+int kt_aug_fresh(kt_aug *a, double *u, double *t, kt_err *e);
 
 const kt_aug_row *kt_aug_last(const kt_aug *a);
 const kt_mesh *kt_aug_mesh(const kt_aug *a);           /* the current, cut mesh */
-const double *kt_aug_displacement(const kt_aug *a);    /* 3*nn, mm; NaN off the output set */
+const double *kt_aug_displacement(const kt_aug *a);    /* 3*nn, mm */
 const int *kt_aug_origin(const kt_aug *a);             /* nn: input node each node comes from */
 /* K u - f at every constrained DOF (the support force, N), 0 elsewhere; 3*nn values owned by
  * the solver, valid until the next step. */

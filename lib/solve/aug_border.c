@@ -18,18 +18,18 @@
 
 #include "aug_impl.h"
 
-int aug_border_init(aug_border *B, const aug_intact *F, kt_err *e)
+int kt_aug_border_init(aug_border *B, const aug_intact *F, kt_err *e)
 {
     memset(B, 0, sizeof *B);
     B->wb = kt_calloc((size_t)F->nsuper + 1, sizeof(aug_wblock), e);
     return e->code;
 }
 
-void aug_border_free(aug_border *B, const aug_intact *F)
+void kt_aug_border_free(aug_border *B, const aug_intact *F)
 {
     for (int q = 0; q < B->m; q++) {
-        aug_col_free(&B->var[q].C);
-        aug_col_free(&B->var[q].D);
+        kt_aug_col_free(&B->var[q].C);
+        kt_aug_col_free(&B->var[q].D);
     }
     for (int s = 0; B->wb && s < F->nsuper; s++) {
         free(B->wb[s].col);
@@ -102,7 +102,7 @@ static void acc_add(acc *a, int i, double v)
 /* Move the accumulated entries into col and clear the accumulator. */
 static int acc_take(acc *a, aug_col *col, kt_err *e)
 {
-    if (aug_col_reserve(col, a->n ? a->n : 1, e)) return e->code;
+    if (kt_aug_col_reserve(col, a->n ? a->n : 1, e)) return e->code;
     col->n = 0;
     for (int k = 0; k < a->n; k++) {
         int i = a->list[k];
@@ -142,7 +142,7 @@ static int columns(aug_border *B, const aug_intact *F, aug_stream *s, int m_old,
     for (int q = m_old; q < B->m && !e->code; q++) {
         aug_var *v = &B->var[q];
         int a = v->dof / 3, c = v->dof % 3;
-        if (have != a && aug_node_columns(s, a, col, e)) break;
+        if (have != a && kt_aug_node_columns(s, a, col, e)) break;
         have = a;
         if (v->kind == AUG_INCREMENT) {
             for (int p = 0; p < col[c].n; p++) spread(B, F, s, col[c].i[p], col[c].x[p], q, C, D);
@@ -154,7 +154,7 @@ static int columns(aug_border *B, const aug_intact *F, aug_stream *s, int m_old,
         }
         if (acc_take(C, &v->C, e) || acc_take(D, &v->D, e)) break;
     }
-    for (int k = 0; k < 3; k++) aug_col_free(&col[k]);
+    for (int k = 0; k < 3; k++) kt_aug_col_free(&col[k]);
     return e->code;
 }
 
@@ -195,8 +195,8 @@ static int w_columns(aug_border *B, const aug_intact *F, int m_old, int *touched
             rows[p] = F->iperm[C->i[p]];
             x[rows[p]] = C->x[p];
         }
-        int ns = aug_intact_closure(F, rows, C->n, sup, mark, q + 1), cols = 0;
-        aug_intact_forward_on(F, sup, ns, x, tmp);
+        int ns = kt_aug_intact_closure(F, rows, C->n, sup, mark, q + 1), cols = 0;
+        kt_aug_intact_forward_on(F, sup, ns, x, tmp);
         for (int k = 0; k < ns && !e->code; k++) {
             int s = sup[k], k1 = S[s], ncol = S[s + 1] - k1;
             aug_wblock *w = &B->wb[s];
@@ -303,7 +303,7 @@ static void register_vars(aug_border *B, const aug_stream *s, int nn_old, const 
     }
 }
 
-int aug_border_append(aug_border *B, const aug_intact *F, aug_stream *s, int nn_old,
+int kt_aug_border_append(aug_border *B, const aug_intact *F, aug_stream *s, int nn_old,
                       const int *newc, int nc, kt_err *e)
 {
     int m_old = B->m, k = 3 * (s->mesh.nn - nn_old) + nc;
@@ -337,7 +337,7 @@ int aug_border_append(aug_border *B, const aug_intact *F, aug_stream *s, int nn_
     return e->code;
 }
 
-void aug_border_solve(const aug_border *B, double *r)
+void kt_aug_border_solve(const aug_border *B, double *r)
 {
     if (B->m == 0) return;
     cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasUnit, B->m, B->Ls, B->cap, r, 1);
@@ -345,7 +345,7 @@ void aug_border_solve(const aug_border *B, double *r)
     cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasUnit, B->m, B->Ls, B->cap, r, 1);
 }
 
-void aug_border_wt(const aug_border *B, const aug_intact *F, const double *y, double *r)
+void kt_aug_border_wt(const aug_border *B, const aug_intact *F, const double *y, double *r)
 {
     const int *S = F->L->super;
     for (int s = 0; B->m && s < F->nsuper; s++) {
@@ -357,7 +357,7 @@ void aug_border_wt(const aug_border *B, const aug_intact *F, const double *y, do
     }
 }
 
-void aug_border_w(const aug_border *B, const aug_intact *F, const double *d, double *y)
+void kt_aug_border_w(const aug_border *B, const aug_intact *F, const double *d, double *y)
 {
     const int *S = F->L->super;
     for (int s = 0; B->m && s < F->nsuper; s++) {

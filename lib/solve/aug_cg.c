@@ -7,9 +7,9 @@
 #include "aug_impl.h"
 #include "krylov.h"
 
-double aug_ms(double seconds) { return 1e3 * seconds; }
+double kt_aug_ms(double seconds) { return 1e3 * seconds; }
 
-int aug_analyze(cholmod_sparse *K, int ordering, int factor, cholmod_common *c,
+int kt_aug_analyze(cholmod_sparse *K, int ordering, int factor, cholmod_common *c,
                 cholmod_factor **L, kt_err *e)
 {
     c->nmethods = 1;
@@ -38,7 +38,7 @@ static void set_identity(cholmod_sparse *K, const unsigned char *cons)
 /* K with identity at C and b = f lifted (g on C rows), loads recomputed from the mesh. */
 static cholmod_sparse *assemble(kt_aug *A, double *b, cholmod_common *c, kt_err *e)
 {
-    if (aug_stream_loads(&A->s, e)) return NULL;
+    if (kt_aug_stream_loads(&A->s, e)) return NULL;
     memcpy(b, A->s.f, 3 * (size_t)A->s.mesh.nn * sizeof(double));
     cholmod_sparse *K = kt_fem_assemble(&A->s.mesh, &A->s.mats, NULL, c, e);
     if (!K) return NULL;
@@ -86,8 +86,8 @@ static int fresh_with(kt_aug *A, cholmod_common *c, int use_opts, double *u, dou
     cholmod_factor *L = NULL;
     double t1 = kt_now(), t2 = t1, t3 = t1;
     if (K) {
-        if (use_opts) aug_analyze(K, A->o.ordering, A->o.factor, c, &L, e);
-        else aug_analyze(K, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, c, &L, e);
+        if (use_opts) kt_aug_analyze(K, A->o.ordering, A->o.factor, c, &L, e);
+        else kt_aug_analyze(K, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, c, &L, e);
     }
     t2 = kt_now();
     if (L) {
@@ -118,7 +118,7 @@ static int fresh_with(kt_aug *A, cholmod_common *c, int use_opts, double *u, dou
     return e->code;
 }
 
-int aug_fresh_solve(kt_aug *A, int use_opts, double *u, double *t, double *relres, kt_err *e)
+int kt_aug_fresh_solve(kt_aug *A, int use_opts, double *u, double *t, double *relres, kt_err *e)
 {
     if (use_opts) return fresh_with(A, &A->c, 1, u, t, relres, e);
     cholmod_common c; /* its own: METIS, postordered, supernodal (what a user would run) */
@@ -128,17 +128,17 @@ int aug_fresh_solve(kt_aug *A, int use_opts, double *u, double *t, double *relre
     return e->code;
 }
 
-int aug_solve_refactor(kt_aug *A, kt_err *e)
+int kt_aug_solve_refactor(kt_aug *A, kt_err *e)
 {
     double t[4];
-    if (aug_fresh_solve(A, 1, A->u, t, &A->row.rel_residual, e)) return e->code;
+    if (kt_aug_fresh_solve(A, 1, A->u, t, &A->row.rel_residual, e)) return e->code;
     if (!isfinite(A->row.rel_residual)) /* a direct solve has no tolerance, but NaN is no answer */
         return kt_fail(e, KT_ERUN, "step %d: the refactor solve's residual is %g (loads or "
                        "stiffness out of double precision's range?)", A->s.step, A->row.rel_residual);
-    A->row.t_update += aug_ms(t[0]);
-    A->row.t_step1 = aug_ms(t[1]);
-    A->row.t_step2 = aug_ms(t[2]);
-    A->row.t_step3 = aug_ms(t[3]);
+    A->row.t_update += kt_aug_ms(t[0]);
+    A->row.t_step1 = kt_aug_ms(t[1]);
+    A->row.t_step2 = kt_aug_ms(t[2]);
+    A->row.t_step3 = kt_aug_ms(t[3]);
     return KT_OK;
 }
 
@@ -184,7 +184,7 @@ static double *jacobi(const cholmod_sparse *K, kt_err *e)
 
 /* CG on the free DOFs: b and x are zero on C, u = x + g there. The initial guess is the
  * previous step's displacement (a new node starts from the node it was split from). */
-int aug_solve_cg(kt_aug *A, int use_jacobi, kt_err *e)
+int kt_aug_solve_cg(kt_aug *A, int use_jacobi, kt_err *e)
 {
     int n = 3 * A->s.mesh.nn;
     double t0 = kt_now();
@@ -212,8 +212,8 @@ int aug_solve_cg(kt_aug *A, int use_jacobi, kt_err *e)
             if (A->s.cons[i]) A->u[i] = A->s.g[i];
     }
     double t2 = kt_now();
-    A->row.t_update += aug_ms(t1 - t0);
-    A->row.t_step2 = aug_ms(t2 - t1);
+    A->row.t_update += kt_aug_ms(t1 - t0);
+    A->row.t_step2 = kt_aug_ms(t2 - t1);
     free(d);
     free(b);
     cholmod_free_sparse(&K, &A->c);

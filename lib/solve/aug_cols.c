@@ -5,7 +5,7 @@
 
 #include "aug_impl.h"
 
-int aug_col_reserve(aug_col *c, int n, kt_err *e)
+int kt_aug_col_reserve(aug_col *c, int n, kt_err *e)
 {
     if (n <= c->cap) return KT_OK;
     int cap = c->cap ? c->cap : 16;
@@ -20,7 +20,7 @@ int aug_col_reserve(aug_col *c, int n, kt_err *e)
     return KT_OK;
 }
 
-void aug_col_free(aug_col *c)
+void kt_aug_col_free(aug_col *c)
 {
     free(c->i);
     free(c->x);
@@ -80,7 +80,7 @@ static int add_tet(aug_stream *s, int tet, int a, const int *nodes, int nb, doub
     return KT_OK;
 }
 
-int aug_node_columns(aug_stream *s, int a, aug_col col[3], kt_err *e)
+int kt_aug_node_columns(aug_stream *s, int a, aug_col col[3], kt_err *e)
 {
     int nodes_small[256];
     int nb = neighbour_slots(s, a, nodes_small, 256);
@@ -92,7 +92,7 @@ int aug_node_columns(aug_stream *s, int a, aug_col col[3], kt_err *e)
     }
     double *acc = kt_calloc((size_t)nb * 9, sizeof(double), e);
     double *Ke = kt_calloc(900, sizeof(double), e);
-    for (int k = 0; k < 3 && !e->code; k++) aug_col_reserve(&col[k], 3 * nb, e);
+    for (int k = 0; k < 3 && !e->code; k++) kt_aug_col_reserve(&col[k], 3 * nb, e);
     for (int k = 0; k < s->adj_n[a] && !e->code; k++)
         add_tet(s, s->adj[a][k], a, nodes, nb, acc, Ke, e);
     if (!e->code)

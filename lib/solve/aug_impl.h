@@ -20,7 +20,7 @@ typedef struct aug_col {
     double *x;
 } aug_col;
 
-/* The cut mesh as the edits go, with what every method reads. Owner: aug_stream_init/free. */
+/* The cut mesh as the edits go, with what every method reads. Owner: kt_aug_stream_init/free. */
 typedef struct aug_stream {
     kt_materials mats;
     kt_mesh mesh;               /* current, cut */
@@ -42,24 +42,24 @@ typedef struct aug_stream {
     unsigned char *fixed0;       /* constrained by the intact scene (eliminated from K) */
     double *g;                   /* prescribed values */
     double *force;               /* nodal forces from edits */
-    double *f;                   /* applied loads on the current mesh (aug_stream_loads) */
+    double *f;                   /* applied loads on the current mesh (kt_aug_stream_loads) */
 } aug_stream;
 
-int aug_stream_init(aug_stream *s, const kt_aug_problem *p, kt_err *e);
-void aug_stream_free(aug_stream *s);
+int kt_aug_stream_init(aug_stream *s, const kt_aug_problem *p, kt_err *e);
+void kt_aug_stream_free(aug_stream *s);
 /* Apply a step's edits: cut, adjacency, parents, automatic fixes of new nodes on fixation
  * surfaces, fix and force edits. *newc gets the DOFs constrained by this step (allocated). */
-int aug_stream_apply(aug_stream *s, const kt_step *st, int **newc, int *nc, kt_err *e);
+int kt_aug_stream_apply(aug_stream *s, const kt_step *st, int **newc, int *nc, kt_err *e);
 /* s->f = pressures + prestress release + forces, on the current mesh (fem layer). */
-int aug_stream_loads(aug_stream *s, kt_err *e);
+int kt_aug_stream_loads(aug_stream *s, kt_err *e);
 
 /* aug_cols.c: K(:, 3a+0..2) of node a in the current mesh, from its tets' element stiffness. */
-int aug_col_reserve(aug_col *c, int n, kt_err *e);
-void aug_col_free(aug_col *c);
-int aug_node_columns(aug_stream *s, int a, aug_col col[3], kt_err *e);
+int kt_aug_col_reserve(aug_col *c, int n, kt_err *e);
+void kt_aug_col_free(aug_col *c);
+int kt_aug_node_columns(aug_stream *s, int a, aug_col col[3], kt_err *e);
 
 /* The intact stiffness on its free DOFs, factored once: L L^T = P K P^T, supernodal, with the
- * supernodal tree for restricted forward solves. Owner: aug_intact_build/free. */
+ * supernodal tree for restricted forward solves. Owner: kt_aug_intact_build/free. */
 typedef struct aug_intact {
     int nK;                     /* free intact DOFs */
     int *pos;                   /* 3 nn0: position of an intact DOF among them, -1: fixed */
@@ -74,19 +74,20 @@ typedef struct aug_intact {
     double t_factor, nnzL;
 } aug_intact;
 
-int aug_intact_build(aug_intact *F, const aug_stream *s, int ordering, cholmod_common *c,
+int kt_aug_intact_build(aug_intact *F, const aug_stream *s, int ordering, cholmod_common *c,
                      kt_err *e);
-void aug_intact_free(aug_intact *F, cholmod_common *c);
+void kt_aug_intact_free(aug_intact *F, cholmod_common *c);
 /* y = L^-1 (P b) in L's numbering, or x = P^T L^-T y (back); in and out hold nK values. */
-int aug_intact_forward(aug_intact *F, const double *b, double *y, cholmod_common *c, kt_err *e);
-int aug_intact_back(aug_intact *F, const double *y, double *x, cholmod_common *c, kt_err *e);
+int kt_aug_intact_forward(aug_intact *F, const double *b, double *y, cholmod_common *c, kt_err *e);
+int kt_aug_intact_back(aug_intact *F, const double *y, double *x, cholmod_common *c, kt_err *e);
 /* The supernodes on the paths from the supernodes of rows[0..n) (L's numbering) to the roots,
  * ascending, into sup (nsuper capacity); mark: nsuper ints, stamp a fresh value. Returns the
  * count. */
-int aug_intact_closure(const aug_intact *F, const int *rows, int n, int *sup, int *mark, int stamp);
+int kt_aug_intact_closure(const aug_intact *F, const int *rows, int n, int *sup, int *mark,
+                          int stamp);
 /* x = L^-1 x on the supernodes sup[0..ns) (ascending closure): x is dense (nK), zero outside
  * the closure's rows. tmp: maxrow values of scratch. */
-void aug_intact_forward_on(const aug_intact *F, const int *sup, int ns, double *x, double *tmp);
+void kt_aug_intact_forward_on(const aug_intact *F, const int *sup, int ns, double *x, double *tmp);
 
 /* A variable appended after the intact ones: the increment d of a new node's DOF (u = u_parent
  * + d) or the Lagrange multiplier of a DOF constrained after step 0. Its column of the
@@ -104,7 +105,7 @@ typedef struct aug_var {
  * unit lower Ls, no pivoting: S is positive definite on the increments and the multipliers
  * come after every variable their row holds, so it is quasi-definite in release order).
  * W is kept by supernode: for supernode s, the appended columns whose closure holds it and
- * their values on its columns. Owner: aug_border_init/free. */
+ * their values on its columns. Owner: kt_aug_border_init/free. */
 typedef struct aug_wblock {
     int n, cap;                 /* appended columns held */
     int *col;                   /* their appended indices, ascending */
@@ -124,17 +125,17 @@ typedef struct aug_border {
     int closure_max;            /* largest closure (columns of L) of the last step's columns */
 } aug_border;
 
-int aug_border_init(aug_border *B, const aug_intact *F, kt_err *e);
-void aug_border_free(aug_border *B, const aug_intact *F);
+int kt_aug_border_init(aug_border *B, const aug_intact *F, kt_err *e);
+void kt_aug_border_free(aug_border *B, const aug_intact *F);
 /* Append the variables of a step: increments of the nodes nn_old.. of the current mesh, then
  * multipliers of the newly constrained DOFs newc; their W columns and the rows of Ls, Ds. */
-int aug_border_append(aug_border *B, const aug_intact *F, aug_stream *s, int nn_old,
+int kt_aug_border_append(aug_border *B, const aug_intact *F, aug_stream *s, int nn_old,
                       const int *newc, int nc, kt_err *e);
 /* d = S^-1 r (m values, in place). */
-void aug_border_solve(const aug_border *B, double *r);
+void kt_aug_border_solve(const aug_border *B, double *r);
 /* r -= W^T y and y -= W d (y in L's numbering). */
-void aug_border_wt(const aug_border *B, const aug_intact *F, const double *y, double *r);
-void aug_border_w(const aug_border *B, const aug_intact *F, const double *d, double *y);
+void kt_aug_border_wt(const aug_border *B, const aug_intact *F, const double *y, double *r);
+void kt_aug_border_w(const aug_border *B, const aug_intact *F, const double *d, double *y);
 
 /* One step's right-hand side and solution. Owner: aug_rhs_init/free (sized per step). */
 typedef struct aug_rhs {
@@ -158,25 +159,24 @@ struct kt_aug {
     /* the output */
     double *u, *react, *uprev;  /* 3 cap_nn */
     int out_cap;
-    unsigned char *outmask;     /* in the output set (NULL: all) */
     int react_valid;
     kt_aug_row row;
 };
 
 /* aug_solve.c: the augmented method's step (rhs -> substitutions -> refinement -> field). */
-int aug_solve_augmented(kt_aug *A, kt_err *e);
-void aug_rhs_free(aug_rhs *r);
+int kt_aug_solve_augmented(kt_aug *A, kt_err *e);
+void kt_aug_rhs_free(aug_rhs *r);
 
 /* aug_cg.c: baselines and the fresh reference. */
-int aug_analyze(cholmod_sparse *K, int ordering, int factor, cholmod_common *c,
+int kt_aug_analyze(cholmod_sparse *K, int ordering, int factor, cholmod_common *c,
                 cholmod_factor **L, kt_err *e);
 /* Assemble and factor the current constrained K from scratch (loads from the mesh): with the
  * run's ordering and factor options (use_opts) or METIS, postordered (what a user would run).
  * t[0..3] get the seconds of assembly, analysis, factorization and solve. */
-int aug_fresh_solve(kt_aug *A, int use_opts, double *u, double *t, double *relres, kt_err *e);
-int aug_solve_refactor(kt_aug *A, kt_err *e);
-int aug_solve_cg(kt_aug *A, int jacobi, kt_err *e);
+int kt_aug_fresh_solve(kt_aug *A, int use_opts, double *u, double *t, double *relres, kt_err *e);
+int kt_aug_solve_refactor(kt_aug *A, kt_err *e);
+int kt_aug_solve_cg(kt_aug *A, int jacobi, kt_err *e);
 
-double aug_ms(double seconds);
+double kt_aug_ms(double seconds);
 
 #endif

@@ -9,7 +9,7 @@
 
 #include "aug_impl.h"
 
-void aug_intact_free(aug_intact *F, cholmod_common *c)
+void kt_aug_intact_free(aug_intact *F, cholmod_common *c)
 {
     cholmod_free_sparse(&F->K, c);
     cholmod_free_factor(&F->L, c);
@@ -83,7 +83,7 @@ static int tree(aug_intact *F, kt_err *e)
     return KT_OK;
 }
 
-int aug_intact_build(aug_intact *F, const aug_stream *s, int ordering, cholmod_common *c,
+int kt_aug_intact_build(aug_intact *F, const aug_stream *s, int ordering, cholmod_common *c,
                      kt_err *e)
 {
     memset(F, 0, sizeof *F);
@@ -94,7 +94,7 @@ int aug_intact_build(aug_intact *F, const aug_stream *s, int ordering, cholmod_c
     for (int j = 0; j < n0; j++) F->pos[j] = s->fixed0[j] ? -1 : F->nK++;
     if (F->nK == 0) return kt_fail(e, KT_EINPUT, "every DOF of the intact scene is fixed");
     if (!(F->K = free_block(F, s, c, e))) return e->code;
-    if (aug_analyze(F->K, ordering, KT_AUG_FACTOR_SUPERNODAL, c, &F->L, e) ||
+    if (kt_aug_analyze(F->K, ordering, KT_AUG_FACTOR_SUPERNODAL, c, &F->L, e) ||
         kt_chol_factor(F->K, F->L, c, "the intact stiffness", e))
         return e->code;
     if (!F->L->is_super)
@@ -123,12 +123,12 @@ static int two(aug_intact *F, int s1, int s2, const double *in, double *out, cho
     return KT_OK;
 }
 
-int aug_intact_forward(aug_intact *F, const double *b, double *y, cholmod_common *c, kt_err *e)
+int kt_aug_intact_forward(aug_intact *F, const double *b, double *y, cholmod_common *c, kt_err *e)
 {
     return two(F, CHOLMOD_P, CHOLMOD_L, b, y, c, e);
 }
 
-int aug_intact_back(aug_intact *F, const double *y, double *x, cholmod_common *c, kt_err *e)
+int kt_aug_intact_back(aug_intact *F, const double *y, double *x, cholmod_common *c, kt_err *e)
 {
     return two(F, CHOLMOD_Lt, CHOLMOD_Pt, y, x, c, e);
 }
@@ -139,7 +139,8 @@ static int cmp_int(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-int aug_intact_closure(const aug_intact *F, const int *rows, int n, int *sup, int *mark, int stamp)
+int kt_aug_intact_closure(const aug_intact *F, const int *rows, int n, int *sup, int *mark,
+                          int stamp)
 {
     int ns = 0;
     for (int q = 0; q < n; q++)
@@ -151,7 +152,7 @@ int aug_intact_closure(const aug_intact *F, const int *rows, int n, int *sup, in
     return ns;
 }
 
-void aug_intact_forward_on(const aug_intact *F, const int *sup, int ns, double *x, double *tmp)
+void kt_aug_intact_forward_on(const aug_intact *F, const int *sup, int ns, double *x, double *tmp)
 {
     const cholmod_factor *L = F->L;
     const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;

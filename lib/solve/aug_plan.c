@@ -8,7 +8,7 @@
 
 #include "apply.h"
 
-void kt_plan_free(kt_plan *p)
+void kt_edits_plan_free(kt_edits_plan *p)
 {
     for (int k = 0; k < p->nsteps; k++) kt_step_free(&p->step[k]);
     free(p->step);
@@ -20,7 +20,7 @@ void kt_plan_free(kt_plan *p)
     memset(p, 0, sizeof *p);
 }
 
-int kt_plan_read(kt_plan *p, kt_edits_reader *r, kt_err *e)
+int kt_edits_plan_read(kt_edits_plan *p, kt_edits_reader *r, kt_err *e)
 {
     for (;;) {
         if (p->nsteps == p->cap) {
@@ -41,7 +41,7 @@ int kt_plan_read(kt_plan *p, kt_edits_reader *r, kt_err *e)
 }
 
 /* Room for nn nodes in the per-node arrays. */
-static int grow(kt_plan *p, int nn, kt_err *e)
+static int grow(kt_edits_plan *p, int nn, kt_err *e)
 {
     int *par = kt_realloc(p->parent, (size_t)nn, sizeof(int), e);
     if (par) p->parent = par;
@@ -81,7 +81,7 @@ static int apply_one(kt_mesh *m, const kt_step *s, kt_edit *ed, const char *stre
                    ed->line, ed->col, ed->node + 1, msg);
 }
 
-static void not_usable(kt_plan *p, const char *stream, long line, const char *what)
+static void not_usable(kt_edits_plan *p, const char *stream, long line, const char *what)
 {
     if (!p->usable) return;
     p->usable = 0;
@@ -90,7 +90,7 @@ static void not_usable(kt_plan *p, const char *stream, long line, const char *wh
 
 /* A node created by this step on a fixation surface is fixed like the surface (as the
  * iterative method does); its increment is then fixed too if its parent is fixed there. */
-static void auto_fixes(kt_plan *p, const kt_mesh *m, const kt_aug_problem *prob, int nn_old,
+static void auto_fixes(kt_edits_plan *p, const kt_mesh *m, const kt_aug_problem *prob, int nn_old,
                        const kt_step *s, const char *stream)
 {
     int fv = kt_tri_nv(m->order);
@@ -136,7 +136,7 @@ static int count_dup(degree *d, const kt_edit *ed, const kt_step *s, const char 
 }
 
 /* One step: every dup applied and checked, fix edits noted (they change K's block). */
-static int check_step(kt_plan *p, kt_mesh *m, const kt_aug_problem *prob, kt_step *s,
+static int check_step(kt_edits_plan *p, kt_mesh *m, const kt_aug_problem *prob, kt_step *s,
                       degree *d, const char *stream, kt_err *e)
 {
     int nn_old = m->nn;
@@ -158,8 +158,8 @@ static int check_step(kt_plan *p, kt_mesh *m, const kt_aug_problem *prob, kt_ste
     return KT_OK;
 }
 
-int kt_plan_check(kt_plan *p, const char *stream, const kt_aug_problem *prob, kt_mesh *final,
-                  kt_err *e)
+int kt_edits_plan_check(kt_edits_plan *p, const char *stream, const kt_aug_problem *prob,
+                        kt_mesh *final, kt_err *e)
 {
     const kt_mesh *m0 = prob->mesh;
     p->usable = 1;
@@ -186,4 +186,10 @@ int kt_plan_check(kt_plan *p, const char *stream, const kt_aug_problem *prob, kt
     }
     free(d.n);
     return e->code;
+}
+
+void kt_edits_plan_zero_values(kt_edits_plan *p)
+{
+    memset(p->g, 0, 3 * (size_t)p->nn * sizeof(double));
+    memset(p->gv, 0, 3 * (size_t)p->nn * sizeof(double));
 }

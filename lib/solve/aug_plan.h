@@ -25,9 +25,9 @@
 
 #include "aug.h"
 
-/* The plan: the whole stream and what it implies for the variables. Owner: kt_plan_read /
- * kt_plan_free. */
-typedef struct kt_plan {
+/* The plan: the whole stream and what it implies for the variables. Owner: kt_edits_plan_read /
+ * kt_edits_plan_free. */
+typedef struct kt_edits_plan {
     int nsteps, cap;
     kt_step *step;              /* steps 1..nsteps at step[0..nsteps) */
     int nn0, nn;                /* intact and final node counts */
@@ -38,19 +38,24 @@ typedef struct kt_plan {
     double *g;                  /* 3 nn: the prescribed displacement of each constrained DOF */
     int usable;                 /* 1: the principal-submatrix form holds */
     char why[512];              /* else: where and why it does not */
-} kt_plan;
+} kt_edits_plan;
 
 /* Read the rest of the stream (every step to the end) into p. Bad input is KT_EINPUT. */
-int kt_plan_read(kt_plan *p, kt_edits_reader *r, kt_err *e);
+int kt_edits_plan_read(kt_edits_plan *p, kt_edits_reader *r, kt_err *e);
 /* Validate every step against the intact mesh before anything is factored (a bad tet is
  * KT_EINPUT "stream:line:col: ..."), and set parents, constrained variables and p->usable.
  * The final cut mesh is written to final (caller frees). */
-int kt_plan_check(kt_plan *p, const char *stream, const kt_aug_problem *prob, kt_mesh *final,
-                  kt_err *e);
-void kt_plan_free(kt_plan *p);
+int kt_edits_plan_check(kt_edits_plan *p, const char *stream, const kt_aug_problem *prob,
+                        kt_mesh *final, kt_err *e);
+void kt_edits_plan_free(kt_edits_plan *p);
+/* Every prescribed value zero (g and gv): the plan of a problem whose values kt_physics_finish
+ * zeroed after kt_edits_plan_check read them (a prestressed scene's steps are increments from the
+ * loaded state). */
+void kt_edits_plan_zero_values(kt_edits_plan *p);
 
-/* The factor of the final augmented matrix and the variables' positions in it. Owner:
- * kt_plan_factor_build / kt_plan_factor_free. */
+/* The factor of the final augmented matrix and the variables' positions in it: the symbolic
+ * and numeric work of one plan, immutable once built (a step's substitutions keep their state
+ * in kt_plan_state). Owner: kt_plan_factor_build / kt_plan_factor_free (nothing else writes). */
 typedef struct kt_plan_factor {
     cholmod_common c;
     int started;
@@ -61,14 +66,7 @@ typedef struct kt_plan_factor {
     double *fro_at;             /* nsteps+1: ||A_k||_F, the leading block of step k */
     cholmod_sparse *A;          /* A_FF: the free block, lower triangle, in free positions */
     cholmod_factor *L;          /* L L^T = P A_FF P^T, P = L->Perm */
-    cholmod_dense *w[2], *Y, *E;/* solve workspaces */
-    double *yf, *bf;            /* the plan's forward substitution, continued step by step: */
-    int nf;                     /* yf[0..nf) solved from bf[0..nf) (L's numbering), later rows
-                                   hold the updates of those columns */
-    int ncont;                  /* steps that continued it (the others started it over) */
-    unsigned char *want;        /* NULL, or the supernodes a restricted back substitution needs */
-    int want_cols;              /* their columns */
-    double *rwork;              /* supernodal: a supernode's rows, the substitutions' workspace */
+    int maxrow;                 /* supernodal: rows of the tallest supernode (workspace size) */
     int rows_sorted;            /* 1: every supernode's row list is ascending */
     int nlift;                  /* A(i, j) with i or j constrained, both orientations: */
     int *lrow, *lcol;           /* variables */
@@ -93,31 +91,26 @@ typedef struct kt_plan_factor {
  * factorization of any step, up to its new DOFs), or needs more flops than nsteps + 1 fresh
  * factorizations of it (max_ratio <= 0, or the natural order: no check), nothing is factored:
  * F->refused = 1 and F->why says so (the caller falls back). */
-int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
+int kt_plan_factor_build(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
                          const kt_materials *mats, int ordering, int factor, double max_ratio,
                          kt_err *e);
 void kt_plan_factor_free(kt_plan_factor *F);
 
-/* Restricted output (aug_plan_out.c): from now on the back substitution computes only what
- * the DOFs of the marked nodes of the final mesh (nodes, p->nn) need: the supernodes on their
- * paths to the roots of the supernodal tree. A simplicial factor keeps the full one. Then a
- * step's u is valid on the marked nodes only and it computes no residual and no reactions. */
-int kt_plan_factor_restrict(kt_plan_factor *F, const kt_plan *p, const unsigned char *nodes,
-                            kt_err *e);
-
-/* Substitutions on the factor in place (aug_plan_subst.c), vectors in L's numbering.
- * kt_plan_subst_init sets rwork and rows_sorted after the factorization.
+/* Substitutions on the factor in place (aug_plan_subst.c), vectors in L's numbering; work
+ * holds F->maxrow values of scratch.
  * kt_plan_forward continues a forward substitution over the columns c0..c1-1: on entry y[0..c0)
  * is solved and every later row holds its right-hand side minus the updates of the columns
  * before c0; on exit the same holds with c1 (rows >= c1 receive their updates, whatever they
  * hold). So a forward substitution can be split at any column, and continued when more rows
  * are released.
  * kt_plan_back (supernodal only): y[0..N) := L^-T y[0..N), rows >= N (the unreleased
- * increments) zero on entry and left so, on the supernodes F->want marks (all when NULL); the
+ * increments) zero on entry and left so, on the supernodes want marks (all when NULL); the
  * entries of the others are left as they were. */
-int kt_plan_subst_init(kt_plan_factor *F, kt_err *e);
-void kt_plan_forward(const kt_plan_factor *F, int c0, int c1, double *y);
-void kt_plan_back(const kt_plan_factor *F, int N, double *y);
+void kt_plan_forward(const kt_plan_factor *F, double *work, int c0, int c1, double *y);
+void kt_plan_back(const kt_plan_factor *F, const unsigned char *want, double *work, int N,
+                  double *y);
+/* Set F->maxrow and F->rows_sorted (kt_plan_factor_build, after the factorization). */
+void kt_plan_subst_init(kt_plan_factor *F);
 
 /* The cut mesh as the steps go, its loads and the field. Owner: kt_plan_state_init / _free. */
 typedef struct kt_plan_state {
@@ -138,26 +131,44 @@ typedef struct kt_plan_state {
     double *b, *x, *r, *ax;     /* right-hand side, solution, residual, scratch (free positions) */
     double t_edits;             /* s to apply the last step's edits */
     kt_aug_row row;
+    /* the substitutions' state: the factor stays as built */
+    cholmod_common c;           /* the solves' CHOLMOD workspace */
+    int c_started;
+    cholmod_dense *w[2], *Y, *E;/* solve workspaces */
+    double *yf, *bf;            /* the plan's forward substitution, continued step by step: */
+    int nf;                     /* yf[0..nf) solved from bf[0..nf) (L's numbering), later rows
+                                   hold the updates of those columns */
+    int ncont;                  /* steps that continued it (the others started it over) */
+    unsigned char *want;        /* NULL, or the supernodes a restricted back substitution needs */
+    int want_cols;              /* their columns */
+    double *rwork;              /* F->maxrow values: the substitutions' workspace */
 } kt_plan_state;
 
-int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
-                       kt_err *e);
+/* The state of step 0 for the plan p factored as F. */
+int kt_plan_state_init(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
+                       const kt_aug_problem *prob, kt_err *e);
+/* Restricted output (aug_plan_out.c): from now on the back substitution computes only what
+ * the DOFs of the marked nodes of the final mesh (nodes, p->nn) need: the supernodes on their
+ * paths to the roots of the supernodal tree. A simplicial factor keeps the full one. Then a
+ * step's u is valid on the marked nodes only and it computes no residual and no reactions. */
+int kt_plan_state_restrict(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
+                           const unsigned char *nodes, kt_err *e);
 void kt_plan_state_free(kt_plan_state *s);
 /* Apply step k's edits (k = s->step + 1) to the state without solving. */
-int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e);
+int kt_plan_advance(kt_plan_state *s, const kt_edits_plan *p, kt_err *e);
 /* Solve the current step: loads on the cut mesh -> right-hand side of the released rows ->
  * substitutions -> field (s->u, s->react) and s->row. Where the backward error exceeds tol,
  * one step of iterative refinement; still above it is KT_ERUN. */
-int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
+int kt_plan_solve(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                   const kt_aug_problem *prob, double tol, kt_err *e);
 /* A step that is not solved (augsolve --steps): its loads and right-hand side, and the plan's
  * forward substitution continued over its columns, so that every later step's field is
  * bitwise what it is when every step is solved. */
-int kt_plan_continue(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
+int kt_plan_continue(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                      const kt_aug_problem *prob, kt_err *e);
 /* Solve the current cut mesh from scratch (assembly, METIS, factorization, solve: what a user
  * would run instead) into u (3 nn); t gets the seconds it took. The --verify reference. */
-int kt_plan_fresh(const kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
+int kt_plan_fresh(const kt_plan_state *s, const kt_edits_plan *p, const kt_aug_problem *prob,
                   double *u, double *t, kt_err *e);
 
 #endif

@@ -14,10 +14,6 @@ void kt_plan_factor_free(kt_plan_factor *F)
 {
     if (F->started) {
         cholmod_free_factor(&F->L, &F->c);
-        cholmod_free_dense(&F->w[0], &F->c);
-        cholmod_free_dense(&F->w[1], &F->c);
-        cholmod_free_dense(&F->Y, &F->c);
-        cholmod_free_dense(&F->E, &F->c);
         cholmod_free_sparse(&F->A, &F->c);
         cholmod_finish(&F->c);
     }
@@ -27,16 +23,12 @@ void kt_plan_factor_free(kt_plan_factor *F)
     free(F->lrow);
     free(F->lcol);
     free(F->lval);
-    free(F->yf);
-    free(F->bf);
-    free(F->want);
-    free(F->rwork);
     memset(F, 0, sizeof *F);
 }
 
 /* The variables DOF i of the final mesh sums: its node and the node's ancestors, same
  * component. Returns the count, or -1 when the chain is deeper than CHAIN_MAX. */
-static int chain(const kt_plan *p, int i, int *v)
+static int chain(const kt_edits_plan *p, int i, int *v)
 {
     int n = 0, c = i % 3;
     for (int a = i / 3; a >= 0; a = p->parent[a]) {
@@ -48,7 +40,7 @@ static int chain(const kt_plan *p, int i, int *v)
 
 /* Positions of the free variables, in variable order (intact DOFs first, then the increments
  * in release order), and how many are present after each step. */
-static int positions(kt_plan_factor *F, const kt_plan *p, kt_err *e)
+static int positions(kt_plan_factor *F, const kt_edits_plan *p, kt_err *e)
 {
     F->nvar = 3 * p->nn;
     F->pos = kt_calloc((size_t)F->nvar, sizeof(int), e);
@@ -105,7 +97,7 @@ static void scatter(sink *s, const int *ci, int ni, const int *cj, int nj, doubl
             if (ci[a] >= cj[b]) put(s, ci[a], cj[b], x);
 }
 
-static int transform(sink *s, const kt_plan *p, const cholmod_sparse *K, kt_err *e)
+static int transform(sink *s, const kt_edits_plan *p, const cholmod_sparse *K, kt_err *e)
 {
     const int *Kp = K->p, *Ki = K->i, *Knz = K->nz;
     const double *Kx = K->x;
@@ -128,7 +120,7 @@ static int transform(sink *s, const kt_plan *p, const cholmod_sparse *K, kt_err 
 }
 
 /* A_FF (lower, in free positions) and the lifting entries from the final mesh's stiffness. */
-static int assemble(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
+static int assemble(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
                     const kt_materials *mats, kt_err *e)
 {
     double t0 = kt_now();
@@ -267,7 +259,7 @@ static int factorize(kt_plan_factor *F, const int *P, int factor, double max_rat
     return KT_OK;
 }
 
-int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *final,
+int kt_plan_factor_build(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
                          const kt_materials *mats, int ordering, int factor, double max_ratio,
                          kt_err *e)
 {
@@ -281,7 +273,7 @@ int kt_plan_factor_build(kt_plan_factor *F, const kt_plan *p, const kt_mesh *fin
     if (!P) return e->code;
     double t1 = kt_now();
     if (factorize(F, P, factor, max_ratio, p->nsteps, e) == KT_OK && !F->refused)
-        kt_plan_subst_init(F, e);
+        kt_plan_subst_init(F);
     free(P);
     F->t_order = t1 - t0;
     F->t_factor = kt_now() - t1;

@@ -20,12 +20,12 @@ static int super_tree(const cholmod_factor *L, int *col_super, int *parent)
     return ns;
 }
 
-int kt_plan_factor_restrict(kt_plan_factor *F, const kt_plan *p, const unsigned char *nodes,
-                            kt_err *e)
+int kt_plan_state_restrict(kt_plan_state *st, const kt_edits_plan *p, const kt_plan_factor *F,
+                           const unsigned char *nodes, kt_err *e)
 {
-    free(F->want);
-    F->want = NULL;
-    F->want_cols = 0;
+    free(st->want);
+    st->want = NULL;
+    st->want_cols = 0;
     const cholmod_factor *L = F->L;
     if (!L->is_super || !nodes) return KT_OK;
     int n = F->nfree, ns = (int)L->nsuper;
@@ -33,7 +33,7 @@ int kt_plan_factor_restrict(kt_plan_factor *F, const kt_plan *p, const unsigned 
     int *parent = kt_calloc((size_t)ns ? (size_t)ns : 1, sizeof(int), e);
     int *ipos = kt_calloc((size_t)n ? (size_t)n : 1, sizeof(int), e);
     unsigned char *need = kt_calloc((size_t)p->nn, 1, e);
-    F->want = kt_calloc((size_t)ns ? (size_t)ns : 1, 1, e);
+    unsigned char *want = st->want = kt_calloc((size_t)ns ? (size_t)ns : 1, 1, e);
     if (!e->code) {
         super_tree(L, col_super, parent);
         const int *Perm = L->Perm;
@@ -43,12 +43,12 @@ int kt_plan_factor_restrict(kt_plan_factor *F, const kt_plan *p, const unsigned 
                 for (int b = a; b >= 0 && !need[b]; b = p->parent[b]) need[b] = 1;
         for (int v = 0; v < F->nvar; v++) {
             if (!need[v / 3] || F->pos[v] < 0) continue;
-            for (int s = col_super[ipos[F->pos[v]]]; s >= 0 && !F->want[s]; s = parent[s])
-                F->want[s] = 1;
+            for (int s = col_super[ipos[F->pos[v]]]; s >= 0 && !want[s]; s = parent[s])
+                want[s] = 1;
         }
         const int *S = L->super;
         for (int s = 0; s < ns; s++)
-            if (F->want[s]) F->want_cols += S[s + 1] - S[s];
+            if (want[s]) st->want_cols += S[s + 1] - S[s];
     }
     free(col_super);
     free(parent);

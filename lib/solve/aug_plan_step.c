@@ -28,6 +28,17 @@ void kt_plan_state_free(kt_plan_state *s)
     free(s->x);
     free(s->r);
     free(s->ax);
+    free(s->yf);
+    free(s->bf);
+    free(s->want);
+    free(s->rwork);
+    if (s->c_started) {
+        cholmod_free_dense(&s->w[0], &s->c);
+        cholmod_free_dense(&s->w[1], &s->c);
+        cholmod_free_dense(&s->Y, &s->c);
+        cholmod_free_dense(&s->E, &s->c);
+        cholmod_finish(&s->c);
+    }
     memset(s, 0, sizeof *s);
 }
 
@@ -91,10 +102,15 @@ static void pressure_view(kt_plan_state *s)
         memcpy(tet + (size_t)k * nv, m->tet + (size_t)s->pown[k] * nv, (size_t)nv * sizeof(int));
 }
 
-int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
-                       kt_err *e)
+int kt_plan_state_init(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
+                       const kt_aug_problem *prob, kt_err *e)
 {
     memset(s, 0, sizeof *s);
+    cholmod_start(&s->c);
+    s->c_started = 1;
+    s->rwork = kt_calloc((size_t)F->maxrow, sizeof(double), e);
+    s->yf = kt_calloc((size_t)F->nfree + 1, sizeof(double), e);
+    s->bf = kt_calloc((size_t)F->nfree + 1, sizeof(double), e);
     size_t n = 3 * (size_t)p->nn;
     s->origin = kt_calloc((size_t)p->nn, sizeof(int), e);
     s->force = kt_calloc(n, sizeof(double), e);
@@ -113,7 +129,7 @@ int kt_plan_state_init(kt_plan_state *s, const kt_plan *p, const kt_aug_problem 
     return release_forces(s, prob, e);
 }
 
-int kt_plan_advance(kt_plan_state *s, const kt_plan *p, kt_err *e)
+int kt_plan_advance(kt_plan_state *s, const kt_edits_plan *p, kt_err *e)
 {
     double t0 = kt_now();
     const kt_step *st = &p->step[s->step];
@@ -155,7 +171,7 @@ static int loads(kt_plan_state *s, const kt_aug_problem *prob, kt_err *e)
 
 /* tf = T^T f (each variable sums its node's and descendants' loads); b = tf on the free
  * variables minus the lifting A(free, constrained) g of the variables present. */
-static void rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
+static void rhs(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F)
 {
     int n = 3 * s->mesh.nn;
     memset(s->tf, 0, (size_t)n * sizeof(double));
@@ -171,10 +187,11 @@ static void rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
     }
 }
 
-static int solve_sys(kt_plan_factor *F, int sys, cholmod_dense *in, cholmod_dense **out, kt_err *e)
+static int solve_sys(kt_plan_state *s, const kt_plan_factor *F, int sys, cholmod_dense *in,
+                     cholmod_dense **out, kt_err *e)
 {
-    if (!cholmod_solve2(sys, F->L, in, NULL, out, NULL, &F->Y, &F->E, &F->c))
-        return kt_fail(e, KT_ERUN, "CHOLMOD solve failed (status %d)", F->c.status);
+    if (!cholmod_solve2(sys, F->L, in, NULL, out, NULL, &s->Y, &s->E, &s->c))
+        return kt_fail(e, KT_ERUN, "CHOLMOD solve failed (status %d)", s->c.status);
     return KT_OK;
 }
 
@@ -187,71 +204,68 @@ static int solve_sys(kt_plan_factor *F, int sys, cholmod_dense *in, cholmod_dens
  * solves for a right-hand side off by that much, which the backward-error check of the step
  * (against the step's own b) counts. */
 enum { SAME_ROUNDING = 64 };
-static int same_rows(const kt_plan_factor *F, const double *b, double scale)
+static int same_rows(const kt_plan_state *s, const kt_plan_factor *F, const double *b,
+                     double scale)
 {
     const int *Perm = F->L->Perm;
     double tol = SAME_ROUNDING * DBL_EPSILON * scale;
-    for (int q = 0; q < F->nf; q++)
-        if (!(fabs(b[Perm[q]] - F->bf[q]) <= tol)) return 0;
+    for (int q = 0; q < s->nf; q++)
+        if (!(fabs(b[Perm[q]] - s->bf[q]) <= tol)) return 0;
     return 1;
 }
 
-/* y = L^-1 P b on the first N rows (F->w[1]; later rows are not meaningful). A step's
- * right-hand side (plan = 1) continues the plan's forward substitution F->yf over the rows it
+/* y = L^-1 P b on the first N rows (s->w[1]; later rows are not meaningful). A step's
+ * right-hand side (plan = 1) continues the plan's forward substitution s->yf over the rows it
  * releases (the columns nf..N-1 only) when the rows already consumed agree with b's, else starts
  * it over; a refinement's (plan = 0) is a forward substitution of its own. */
-static int forward(kt_plan_factor *F, int N, const double *b, int plan, double scale, kt_err *e)
+static int forward(kt_plan_state *s, const kt_plan_factor *F, int N, const double *b, int plan,
+                   double scale, kt_err *e)
 {
-    if (!F->w[1] && !(F->w[1] = cholmod_zeros(F->nfree, 1, CHOLMOD_REAL, &F->c)))
+    if (!s->w[1] && !(s->w[1] = cholmod_zeros(F->nfree, 1, CHOLMOD_REAL, &s->c)))
         return kt_fail(e, KT_ERUN, "CHOLMOD out of memory");
-    double *y = F->w[1]->x;
+    double *y = s->w[1]->x;
     const int *Perm = F->L->Perm;
     if (!plan) {
         for (int q = 0; q < F->nfree; q++) y[q] = q < N ? b[Perm[q]] : 0;
-        kt_plan_forward(F, 0, N, y);
+        kt_plan_forward(F, s->rwork, 0, N, y);
         return KT_OK;
     }
-    if (!F->yf) {
-        F->yf = kt_calloc((size_t)F->nfree, sizeof(double), e);
-        F->bf = kt_calloc((size_t)F->nfree, sizeof(double), e);
-        if (e->code) return e->code;
-    }
-    if (F->nf > 0 && F->nf <= N && same_rows(F, b, scale)) {
-        F->ncont++;
+    if (s->nf > 0 && s->nf <= N && same_rows(s, F, b, scale)) {
+        s->ncont++;
     } else {
-        F->nf = 0;
-        memset(F->yf, 0, (size_t)F->nfree * sizeof(double));
+        s->nf = 0;
+        memset(s->yf, 0, (size_t)F->nfree * sizeof(double));
     }
-    for (int q = F->nf; q < N; q++) {
-        F->bf[q] = b[Perm[q]];
-        F->yf[q] += F->bf[q];
+    for (int q = s->nf; q < N; q++) {
+        s->bf[q] = b[Perm[q]];
+        s->yf[q] += s->bf[q];
     }
-    kt_plan_forward(F, F->nf, N, F->yf);
-    F->nf = N;
-    memcpy(y, F->yf, (size_t)N * sizeof(double));
+    kt_plan_forward(F, s->rwork, s->nf, N, s->yf);
+    s->nf = N;
+    memcpy(y, s->yf, (size_t)N * sizeof(double));
     return KT_OK;
 }
 
 /* x = A_k^-1 b on the first N free positions, 0 after: forward (plan: continuing the plan's),
  * the rows of the unreleased increments zeroed, L^T (D L^T for LDL^T), P^T. t[0..1] +=
  * forward, back (s). */
-static int substitute(kt_plan_factor *F, int N, const double *b, double *x, int plan,
-                      double scale, double *t, kt_err *e)
+static int substitute(kt_plan_state *s, const kt_plan_factor *F, int N, const double *b,
+                      double *x, int plan, double scale, double *t, kt_err *e)
 {
     double t0 = kt_now();
-    if (forward(F, N, b, plan, scale, e)) return e->code;
-    double *y = F->w[1]->x;
+    if (forward(s, F, N, b, plan, scale, e)) return e->code;
+    double *y = s->w[1]->x;
     memset(y + N, 0, (size_t)(F->nfree - N) * sizeof(double)); /* P keeps them in place */
     double t1 = kt_now();
     if (F->L->is_super) { /* the released prefix, and the wanted supernodes */
-        kt_plan_back(F, N, y);
+        kt_plan_back(F, s->want, s->rwork, N, y);
         const int *Perm = F->L->Perm;
         for (int q = 0; q < F->nfree; q++) x[Perm[q]] = y[q];
     } else {
-        if (solve_sys(F, F->L->is_ll ? CHOLMOD_Lt : CHOLMOD_DLt, F->w[1], &F->w[0], e) ||
-            solve_sys(F, CHOLMOD_Pt, F->w[0], &F->w[1], e))
+        if (solve_sys(s, F, F->L->is_ll ? CHOLMOD_Lt : CHOLMOD_DLt, s->w[1], &s->w[0], e) ||
+            solve_sys(s, F, CHOLMOD_Pt, s->w[0], &s->w[1], e))
             return e->code;
-        memcpy(x, F->w[1]->x, (size_t)F->nfree * sizeof(double));
+        memcpy(x, s->w[1]->x, (size_t)F->nfree * sizeof(double));
     }
     t[0] += t1 - t0;
     t[1] += kt_now() - t1;
@@ -292,7 +306,7 @@ static double residual(const kt_plan_factor *F, int N, double fro, const double 
 /* The variables, the displacement u_c = u_parent + d_c, and K u - f at constrained DOFs
  * (each constrained variable's row of A gives the sum over the DOF and its constrained
  * descendants; its children's sums come off). */
-static void field(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
+static void field(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F)
 {
     int nn = s->mesh.nn, n = 3 * nn;
     for (int v = 0; v < n; v++) s->v[v] = F->pos[v] >= 0 ? s->x[F->pos[v]] : p->gv[v];
@@ -313,7 +327,7 @@ static void field(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F)
 
 /* The current step's loads and right-hand side s->b; *scale gets the largest load a variable
  * sums. */
-static int step_rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
+static int step_rhs(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                     const kt_aug_problem *prob, double *scale, kt_err *e)
 {
     if (loads(s, prob, e)) return e->code;
@@ -326,15 +340,15 @@ static int step_rhs(kt_plan_state *s, const kt_plan *p, const kt_plan_factor *F,
     return KT_OK;
 }
 
-int kt_plan_continue(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
+int kt_plan_continue(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                      const kt_aug_problem *prob, kt_err *e)
 {
     double scale = 0;
     if (step_rhs(s, p, F, prob, &scale, e)) return e->code;
-    return forward(F, F->nfree_at[s->step], s->b, 1, scale, e);
+    return forward(s, F, F->nfree_at[s->step], s->b, 1, scale, e);
 }
 
-int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
+int kt_plan_solve(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_factor *F,
                   const kt_aug_problem *prob, double tol, kt_err *e)
 {
     double t0 = kt_now(), ts[2] = {0, 0}, scale = 0;
@@ -342,13 +356,13 @@ int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
     int N = F->nfree_at[s->step];
     if (step_rhs(s, p, F, prob, &scale, e)) return e->code;
     double t1 = kt_now();
-    if (substitute(F, N, s->b, s->x, 1, scale, ts, e)) return e->code;
+    if (substitute(s, F, N, s->b, s->x, 1, scale, ts, e)) return e->code;
     double t2 = kt_now(), backward = 0, rel = NAN;
-    if (!F->want) rel = residual(F, N, F->fro_at[s->step], s->b, s->x, s->r, &backward);
+    if (!s->want) rel = residual(F, N, F->fro_at[s->step], s->b, s->x, s->r, &backward);
     s->row.iters = 0;
     if (!(backward <= tol)) { /* one step of iterative refinement */
         memset(s->r + N, 0, (size_t)(F->nfree - N) * sizeof(double));
-        if (substitute(F, N, s->r, s->ax, 0, scale, ts, e)) return e->code;
+        if (substitute(s, F, N, s->r, s->ax, 0, scale, ts, e)) return e->code;
         for (int i = 0; i < N; i++) s->x[i] += s->ax[i];
         rel = residual(F, N, F->fro_at[s->step], s->b, s->x, s->r, &backward);
         s->row.iters = 1;
@@ -358,7 +372,7 @@ int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
                        "--tol %.3g after a step of iterative refinement", s->step, backward, tol);
     double t3 = kt_now();
     field(s, p, F);
-    w->closure_max = F->want ? F->want_cols : 0;
+    w->closure_max = s->want ? s->want_cols : 0;
     double t4 = kt_now();
     w->step = s->step;
     w->n_dofs = 3 * s->mesh.nn;
@@ -371,12 +385,11 @@ int kt_plan_solve(kt_plan_state *s, const kt_plan *p, kt_plan_factor *F,
     w->t_total = w->t_update + 1e3 * (t4 - t1);
     w->rel_residual = rel;
     w->verify_rel_diff = w->t_verify = NAN;
-    snprintf(w->refactor, sizeof w->refactor, "-");
     w->nnz_L = F->nnzL;
     return KT_OK;
 }
 
-int kt_plan_fresh(const kt_plan_state *s, const kt_plan *p, const kt_aug_problem *prob,
+int kt_plan_fresh(const kt_plan_state *s, const kt_edits_plan *p, const kt_aug_problem *prob,
                   double *u, double *t, kt_err *e)
 {
     double t0 = kt_now();

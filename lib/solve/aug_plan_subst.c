@@ -27,21 +27,19 @@ static int rows_below(const kt_plan_factor *F, int s, int N)
     return lo - (pi[s] + nscol);
 }
 
-int kt_plan_subst_init(kt_plan_factor *F, kt_err *e)
+void kt_plan_subst_init(kt_plan_factor *F)
 {
     const cholmod_factor *L = F->L;
     F->rows_sorted = 1;
-    if (!L->is_super) return KT_OK;
+    F->maxrow = 1;
+    if (!L->is_super) return;
     const int *S = L->super, *pi = L->pi, *Ls = L->s;
-    int maxrow = 1;
     for (int s = 0; s < (int)L->nsuper; s++) {
         int nscol = S[s + 1] - S[s];
-        if (pi[s + 1] - pi[s] > maxrow) maxrow = pi[s + 1] - pi[s];
+        if (pi[s + 1] - pi[s] > F->maxrow) F->maxrow = pi[s + 1] - pi[s];
         for (int q = pi[s] + nscol + 1; q < pi[s + 1]; q++)
             if (Ls[q] <= Ls[q - 1]) F->rows_sorted = 0;
     }
-    F->rwork = kt_calloc((size_t)maxrow, sizeof(double), e);
-    return e->code;
 }
 
 /* Simplicial: columns c0..c1-1, the diagonal first; LDL^T keeps a unit L. */
@@ -57,7 +55,7 @@ static void forward_simplicial(const cholmod_factor *L, int c0, int c1, double *
     }
 }
 
-void kt_plan_forward(const kt_plan_factor *F, int c0, int c1, double *y)
+void kt_plan_forward(const kt_plan_factor *F, double *work, int c0, int c1, double *y)
 {
     const cholmod_factor *L = F->L;
     if (!L->is_super) {
@@ -66,7 +64,7 @@ void kt_plan_forward(const kt_plan_factor *F, int c0, int c1, double *y)
     }
     const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
     const double *Lx = L->x;
-    double *w = F->rwork;
+    double *w = work;
     int ns = (int)L->nsuper, lo = 0, hi = ns;
     while (lo < hi) { /* lo: the first supernode ending after c0 */
         int mid = lo + (hi - lo) / 2;
@@ -87,15 +85,16 @@ void kt_plan_forward(const kt_plan_factor *F, int c0, int c1, double *y)
     }
 }
 
-void kt_plan_back(const kt_plan_factor *F, int N, double *y)
+void kt_plan_back(const kt_plan_factor *F, const unsigned char *want, double *work, int N,
+                  double *y)
 {
     const cholmod_factor *L = F->L;
     const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
     const double *Lx = L->x;
-    double *w = F->rwork;
+    double *w = work;
     for (int s = (int)L->nsuper - 1; s >= 0; s--) {
         int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
-        if (k1 >= N || (F->want && !F->want[s])) continue;
+        if (k1 >= N || (want && !want[s])) continue;
         int nc = k1 + nscol < N ? nscol : N - k1;
         const double *X = Lx + px[s];
         double *top = y + k1;

@@ -11,7 +11,7 @@
 
 #include "aug_impl.h"
 
-void aug_rhs_free(aug_rhs *r)
+void kt_aug_rhs_free(aug_rhs *r)
 {
     free(r->u0);
     free(r->z);
@@ -25,7 +25,7 @@ void aug_rhs_free(aug_rhs *r)
 
 static int rhs_size(aug_rhs *r, int nK, int m, int n, kt_err *e)
 {
-    aug_rhs_free(r);
+    kt_aug_rhs_free(r);
     r->nK = nK, r->m = m, r->n = n;
     size_t nv = (size_t)nK + m;
     r->u0 = kt_calloc((size_t)n, sizeof(double), e);
@@ -104,12 +104,12 @@ static int substitute(kt_aug *A, const double *b, double *x, kt_err *e)
     aug_intact *F = &A->F;
     int nK = F->nK;
     double *y = A->r.y, *d = x + nK;
-    if (aug_intact_forward(F, b, y, &A->c, e)) return e->code;
+    if (kt_aug_intact_forward(F, b, y, &A->c, e)) return e->code;
     memcpy(d, b + nK, (size_t)A->B.m * sizeof(double));
-    aug_border_wt(&A->B, F, y, d);
-    aug_border_solve(&A->B, d);
-    aug_border_w(&A->B, F, d, y);
-    return aug_intact_back(F, y, x, &A->c, e);
+    kt_aug_border_wt(&A->B, F, y, d);
+    kt_aug_border_solve(&A->B, d);
+    kt_aug_border_w(&A->B, F, d, y);
+    return kt_aug_intact_back(F, y, x, &A->c, e);
 }
 
 /* r = b - A x; returns ||r|| / ||b|| and sets *backward = ||r|| / (|| |A||x| || + ||b||). */
@@ -175,16 +175,13 @@ static void field(kt_aug *A)
         else
             A->u[i] = r->x[r->nK + A->B.apos[i]] + A->u[3 * s->parent[a] + c];
     }
-    if (A->outmask)
-        for (int i = 0; i < r->n; i++)
-            if (!A->outmask[i]) A->u[i] = NAN;
 }
 
-int aug_solve_augmented(kt_aug *A, kt_err *e)
+int kt_aug_solve_augmented(kt_aug *A, kt_err *e)
 {
     aug_rhs *r = &A->r;
     double t0 = kt_now();
-    if (rhs_size(r, A->F.nK, A->B.m, 3 * A->s.mesh.nn, e) || aug_stream_loads(&A->s, e) ||
+    if (rhs_size(r, A->F.nK, A->B.m, 3 * A->s.mesh.nn, e) || kt_aug_stream_loads(&A->s, e) ||
         lifted_loads(&A->s, r, e))
         return e->code;
     assemble_rhs(&A->s, &A->F, &A->B, r);
@@ -204,7 +201,7 @@ int aug_solve_augmented(kt_aug *A, kt_err *e)
                        backward, A->o.tol, A->B.m);
     field(A);
     A->react_valid = 0;
-    A->row.t_step2 = aug_ms(t1 - t0);
-    A->row.t_step3 = aug_ms(kt_now() - t1);
+    A->row.t_step2 = kt_aug_ms(t1 - t0);
+    A->row.t_step3 = kt_aug_ms(kt_now() - t1);
     return KT_OK;
 }

@@ -74,7 +74,7 @@ static int build_adjacency(aug_stream *s, kt_err *e)
     return KT_OK;
 }
 
-int aug_stream_loads(aug_stream *s, kt_err *e)
+int kt_aug_stream_loads(aug_stream *s, kt_err *e)
 {
     size_t n = 3 * (size_t)s->mesh.nn;
     memset(s->f, 0, n * sizeof(double));
@@ -90,7 +90,7 @@ int aug_stream_loads(aug_stream *s, kt_err *e)
     return KT_OK;
 }
 
-int aug_stream_init(aug_stream *s, const kt_aug_problem *p, kt_err *e)
+int kt_aug_stream_init(aug_stream *s, const kt_aug_problem *p, kt_err *e)
 {
     if (kt_mesh_copy(&s->mesh, p->mesh, e)) return e->code;
     s->mats.nmat = p->mats->nmat;
@@ -113,10 +113,10 @@ int aug_stream_init(aug_stream *s, const kt_aug_problem *p, kt_err *e)
             s->cons[i] = s->fixed0[i] = 1;
             s->g[i] = p->g ? p->g[i] : 0.0;
         }
-    return aug_stream_loads(s, e);
+    return kt_aug_stream_loads(s, e);
 }
 
-void aug_stream_free(aug_stream *s)
+void kt_aug_stream_free(aug_stream *s)
 {
     for (int a = 0; a < s->cap_nn; a++) free(s->adj[a]);
     free(s->adj);
@@ -215,7 +215,7 @@ static int check_node(const aug_stream *s, const kt_step *st, const kt_edit *ed,
     return KT_OK;
 }
 
-int aug_stream_apply(aug_stream *s, const kt_step *st, int **newc, int *nc, kt_err *e)
+int kt_aug_stream_apply(aug_stream *s, const kt_step *st, int **newc, int *nc, kt_err *e)
 {
     *newc = NULL;
     *nc = 0;

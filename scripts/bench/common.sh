@@ -44,7 +44,7 @@ cut_edits() {
 mesh_nodes() { awk '/^\$Nodes/ { getline; print $2; exit }' "$1"; }
 
 # Canonical step rows (the columns of bench_steps without its tag).
-CANON="method step n_dofs m new_dofs iters closure_max t_update_ms t_step1_ms t_step2_ms t_step3_ms t_total_ms rel_residual refactor verify_rel_diff nnz_L t_factor_ms status"
+CANON="method step n_dofs m new_dofs iters closure_max t_update_ms t_step1_ms t_step2_ms t_step3_ms t_total_ms rel_residual verify_rel_diff nnz_L t_factor_ms status"
 STEPS_HEADER="exp	model	size	nodes	$(echo $CANON | tr ' ' '\t')"
 
 # canon_aug METHOD STEPS_TSV: augsolve's steps.tsv in the canonical columns (by header name).

@@ -1,6 +1,6 @@
-/* test_aug_output.c: --output SET gives the full solve's values on the set and NaN off it; a
- * backward error above --tol after refinement is a loud KT_ERUN; bad edits are
- * KT_EINPUT; a 1,000-step run that only changes forces does not grow in memory. */
+/* test_aug_output.c: a backward error above --tol after refinement is a loud KT_ERUN; bad
+ * edits are KT_EINPUT; a 1,000-step run that only changes forces does not grow in memory.
+ * (--output, for every method: test_solver.c.) */
 #include <stdio.h>
 #include <unistd.h>
 
@@ -17,58 +17,6 @@ static long rss_kb(void)
         fclose(f);
     }
     return res * (sysconf(_SC_PAGESIZE) / 1024);
-}
-
-/* Cuts and fixes with a full and a restricted run side by side: equal on the set. */
-static void test_restricted(scenario *s)
-{
-    kt_err e = {0};
-    kt_aug_opts o;
-    kt_aug_opts_default(&o);
-    o.quiet = 1;
-    o.tol = 1e-13;
-    kt_aug_opts r = o;
-    strcpy(r.output, "ymax");
-    kt_aug *A = NULL, *B = NULL;
-    CHECK(kt_aug_create(&A, &s->prob, &o, &e) == KT_OK, "%s", e.msg);
-    CHECK(kt_aug_create(&B, &s->prob, &r, &e) == KT_OK, "%s", e.msg);
-    if (!A || !B) return;
-    kt_step st = {0};
-    const kt_group *g = kt_mesh_find_group(&s->mesh, 2, "ymax");
-    for (int step = 1; step <= 8 && !e.code; step++) {
-        kt_step_clear(&st);
-        st.index = step;
-        cut_layer(s, kt_aug_mesh(A), &st, 2, s->nz - step, 0.001, &e);
-        add_fix(&st, grid_node(s, 0, step % s->ny, s->nz - 1), 7u, 0, 1e-3 * step, 0, &e);
-        CHECK(kt_aug_step(A, &st, &e) == KT_OK && kt_aug_step(B, &st, &e) == KT_OK, "%s", e.msg);
-        int *nodes = NULL, cnt = 0, nan_off = 0, off = 0;
-        kt_mesh_group_nodes(kt_aug_mesh(A), g, &nodes, &cnt, &e);
-        const double *ua = kt_aug_displacement(A), *ub = kt_aug_displacement(B);
-        double d = 0, mx = 0;
-        for (int k = 0; k < cnt; k++)
-            for (int c = 0; c < 3; c++) {
-                int i = 3 * nodes[k] + c;
-                d = fmax(d, fabs(ua[i] - ub[i]));
-                mx = fmax(mx, fabs(ua[i]));
-            }
-        CHECK(cnt > 0 && d <= 1e-12 * mx, "step %d: restricted vs full on ymax: %.3g of %.3g",
-              step, d, mx);
-        /* off the set the restricted run leaves NaN */
-        unsigned char *in = calloc((size_t)kt_aug_mesh(A)->nn, 1);
-        for (int k = 0; k < cnt; k++) in[nodes[k]] = 1;
-        for (int a = 0; a < kt_aug_mesh(A)->nn; a++)
-            if (!in[a]) {
-                off++;
-                nan_off += isnan(ub[3 * a]);
-            }
-        CHECK(off > 0 && nan_off == off, "step %d: %d of %d nodes off the set are NaN", step,
-              nan_off, off);
-        free(in);
-        free(nodes);
-    }
-    kt_step_free(&st);
-    kt_aug_free(A);
-    kt_aug_free(B);
 }
 
 /* A backward error that cannot be met (after one step of refinement) is a loud KT_ERUN. */
@@ -166,7 +114,6 @@ int main(void)
     kt_err e = {0};
     scenario beam;
     CHECK(scenario_box(&beam, 5, 5, 16, 1.0, 0.0, &e) == 0, "%s", e.msg);
-    test_restricted(&beam);
     test_no_convergence(&beam);
     test_bad_edits(&beam);
     test_memory(&beam);

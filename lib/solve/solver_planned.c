@@ -1,0 +1,105 @@
+/* solver_planned.c: the planned method as a backend of the front door (solver.h): one
+ * factorization of the final augmented matrix (kt_plan_factor, immutable once built), the
+ * steps' state (kt_plan_state: the cut mesh, the loads, the forward substitution continued
+ * from step to step). */
+#include "solver.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct planned {
+    const kt_edits_plan *plan;
+    const kt_aug_problem *prob;
+    double tol;
+    int quiet;
+    kt_plan_factor F;
+    kt_plan_state S;
+} planned;
+
+static void planned_free(void *st)
+{
+    planned *P = st;
+    kt_plan_state_free(&P->S);
+    kt_plan_factor_free(&P->F);
+    free(P);
+}
+
+static int planned_create(void **st, const kt_solver_in *in, char *why, size_t n, kt_err *e)
+{
+    *st = NULL;
+    if (!in->plan->usable) {
+        snprintf(why, n, "%s", in->plan->why);
+        return KT_OK;
+    }
+    planned *P = kt_calloc(1, sizeof *P, e);
+    if (!P) return e->code;
+    P->plan = in->plan;
+    P->prob = in->prob;
+    P->tol = in->o->tol;
+    P->quiet = in->o->quiet;
+    kt_plan_factor *F = &P->F;
+    if (kt_plan_factor_build(F, in->plan, in->final, in->prob->mats, in->o->ordering,
+                             in->o->factor, in->plan_max_ratio, e))
+        goto fail;
+    if (F->refused) {
+        snprintf(why, n, "%s", F->why);
+        planned_free(P);
+        return KT_OK;
+    }
+    if (kt_plan_state_init(&P->S, in->plan, F, in->prob, e) ||
+        (in->out_final && kt_plan_state_restrict(&P->S, in->plan, F, in->out_final, e)))
+        goto fail;
+    kt_log(P->quiet, "augsolve: planned: %d steps, %d free DOFs + %d increments, factor %.0f "
+           "nonzeros (%.3gx METIS on the intact block; flops %.3gx) in %.2f s (assembly %.2f s, "
+           "ordering %.2f s)\n", in->plan->nsteps, F->nK, F->nfree - F->nK, F->nnzL,
+           F->lnz_plan / F->lnz_ref, F->fl_plan / F->fl_ref, F->t_factor, F->t_assemble,
+           F->t_order);
+    if (kt_plan_solve(&P->S, P->plan, F, P->prob, P->tol, e)) goto fail;
+    double setup = 1e3 * (F->t_assemble + F->t_order + F->t_factor); /* step 0 holds the factor */
+    P->S.row.t_update += setup;
+    P->S.row.t_total += setup;
+    *st = P;
+    return KT_OK;
+fail:
+    planned_free(P);
+    return e->code;
+}
+
+static int planned_step(void *st, const kt_step *s, int mode, kt_err *e)
+{
+    planned *P = st;
+    if (s->index != P->S.step + 1)
+        return kt_fail(e, KT_EINPUT, "step %d follows step %d (expected step %d)", s->index,
+                       P->S.step, P->S.step + 1);
+    if (kt_plan_advance(&P->S, P->plan, e)) return e->code;
+    if (mode == KT_SOLVER_SOLVE) kt_plan_solve(&P->S, P->plan, &P->F, P->prob, P->tol, e);
+    else if (mode == KT_SOLVER_CARRY) kt_plan_continue(&P->S, P->plan, &P->F, P->prob, e);
+    if (!e->code && P->S.step == P->plan->nsteps)
+        kt_log(P->quiet, "augsolve: planned: %d of the steps after step 0 continued its forward "
+               "substitution (the others started it over)\n", P->S.ncont);
+    return e->code;
+}
+
+static void planned_view(void *st, kt_solver_view *v)
+{
+    planned *P = st;
+    *v = (kt_solver_view){&P->S.mesh, P->S.u, P->S.origin, P->S.row};
+}
+
+static const double *planned_reaction(void *st, kt_err *e)
+{
+    (void)e;
+    planned *P = st;
+    return P->S.want ? NULL : P->S.react; /* a restricted step computes none */
+}
+
+static int planned_fresh(void *st, double *u, double *t, kt_err *e)
+{
+    planned *P = st;
+    return kt_plan_fresh(&P->S, P->plan, P->prob, u, t, e);
+}
+
+const kt_solver_backend kt_solver_planned = {"planned", planned_create, planned_step,
+                                             planned_view, planned_reaction, planned_fresh,
+                                             planned_free};
