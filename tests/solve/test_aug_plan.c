@@ -279,11 +279,11 @@ static void check_validation(scenario *s)
     f = text_stream(s, body);
     e = (kt_err){0};
     CHECK(read_plan(f, &p, &e) == KT_OK, "orphan: read: %s", e.msg);
-    CHECK(kt_plan_check(&p, "stream", &s->prob, &final, &e) == KT_EINPUT &&
+    CHECK(kt_edits_plan_check(&p, "stream", &s->prob, &final, &e) == KT_EINPUT &&
               strncmp(e.msg, "stream:8: step 2:", 17) == 0 && strstr(e.msg, "at least one tetrahedron"),
           "orphan: not refused: '%s'", e.msg);
     kt_mesh_free(&final);
-    kt_plan_free(&p);
+    kt_edits_plan_free(&p);
     fclose(f);
     /* a fix edit changes the intact block: usable = 0, with its line */
     snprintf(body, sizeof body, "step 1\ndup %d %d 1 %d\nend\nstep 2\nfix %d x 0.001\nend\ndone 2\n",
