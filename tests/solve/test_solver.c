@@ -35,6 +35,7 @@ static int make_plan(const scenario *s, kt_edits_plan *p, kt_mesh *final, kt_err
         free(touched);
         if (!e->code) kt_edits_write_step(f, &st, e);
     }
+    if (!e->code) kt_edits_write_done(f, NSTEPS, e); /* the stream's end (keratome-edits(5)) */
     kt_step_free(&st);
     kt_mesh_free(&cur);
     kt_edits_reader r;
