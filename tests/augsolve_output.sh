@@ -11,8 +11,8 @@ B=${1:?build dir}
 T=$(mktemp -d /tmp/augsolve_output.XXXXXX)
 trap 'rm -rf "$T"' EXIT
 fail=0
-"$B/mesh-prep" plans/beam-16.yaml -o "$T/beam.msh" -q >/dev/null || { echo "FAIL mesh-prep"; exit 1; }
-"$B/cutplan" plans/cut-beam-16.yaml "$T/beam.msh" -o "$T/cut.edits" -q || { echo "FAIL cutplan"; exit 1; }
+"$B/mesh-prep" plans/bench/beam-16.yaml -o "$T/beam.msh" -q >/dev/null || { echo "FAIL mesh-prep"; exit 1; }
+"$B/cutplan" plans/bench/cut-beam-16.yaml "$T/beam.msh" -o "$T/cut.edits" -q || { echo "FAIL cutplan"; exit 1; }
 run() { # run NAME METHOD OUTPUT
     "$B/augsolve" "$T/beam.msh" "$T/cut.edits" -o "$T/$1" --method "$2" --output "$3" --tol 1e-12 \
         --verify --verify-tol 1e-6 -q 2>"$T/err" || { echo "FAIL $1: $(cat "$T/err")"; fail=1; }
