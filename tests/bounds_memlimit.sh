@@ -16,7 +16,7 @@ fails=0
 ends() {
     local name=$1 limit=$2 codes=$3 rc
     shift 3
-    (ulimit -v "$limit"; OPENBLAS_NUM_THREADS=2 exec timeout 300 "$@") >/dev/null 2>"$tmp/stderr"
+    (ulimit -v "$limit"; OPENBLAS_NUM_THREADS=2 exec timeout 120 "$@") >/dev/null 2>"$tmp/stderr"
     rc=$?
     if [[ " $codes " != *" $rc "* ]]; then
         echo "FAIL $name: exit $rc (124: hung), expected one of $codes"; tail -3 "$tmp/stderr"
