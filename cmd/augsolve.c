@@ -104,7 +104,7 @@ static int option(int c, const char *arg, kt_aug_run_opts *o)
     return usage_error("unknown or incomplete option", arg);
 }
 
-int main(int argc, char **argv)
+static int tool_main(int argc, char **argv)
 {
     static const struct option LONG[] = {
         {"scene", required_argument, NULL, O_SCENE}, {"method", required_argument, NULL, O_METHOD},
@@ -127,11 +127,11 @@ int main(int argc, char **argv)
     while ((c = getopt_long(argc, argv, "o:qh", LONG, NULL)) != -1) {
         if (c == 'h') {
             fputs(USAGE, stdout);
-            return 0;
+            return kt_stdout_done("augsolve");
         }
         if (c == 'V') {
             puts("augsolve (keratome) " KT_VERSION);
-            return 0;
+            return kt_stdout_done("augsolve");
         }
         if (c == '?' || c == ':') return usage_error("unknown or incomplete option", argv[optind - 1]);
         if ((rc = option(c, optarg, &o))) return rc;
@@ -145,5 +145,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "augsolve: %s\n", e.msg);
         return e.code;
     }
-    return 0;
+    return kt_stdout_done("augsolve");
+}
+
+int main(int argc, char **argv)
+{
+    kt_tool_start();
+    kt_exit(tool_main(argc, argv));
 }

@@ -50,7 +50,7 @@ static int bad(const char *fmt, const char *arg)
     return KT_EINPUT;
 }
 
-int main(int argc, char **argv)
+static int tool_main(int argc, char **argv)
 {
     enum { O_ZONE = 256, O_FIT, O_ORDER, O_MAPZONE, O_MAPORDER, O_MERIDIAN, O_PLAN, O_MESH, O_PNG,
            O_NOPNG, O_NOVTK, O_SCALE, O_NOREPORT, O_JSON, O_VERSION, O_STEP, O_ARC, O_COMPARE, O_EYE };
@@ -124,8 +124,8 @@ int main(int argc, char **argv)
         case 'q': o.quiet = 1; break;
         case O_NOREPORT: o.report = 0; break;
         case O_JSON: o.json = 1; break;
-        case O_VERSION: puts("curvature (keratome) " KT_VERSION); return 0;
-        case 'h': fputs(usage, stdout); return 0;
+        case O_VERSION: puts("curvature (keratome) " KT_VERSION); return kt_stdout_done("curvature");
+        case 'h': fputs(usage, stdout); return kt_stdout_done("curvature");
         default: return bad("unknown or incomplete option: %s", argv[optind - 1]);
         }
     }
@@ -152,5 +152,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "curvature: %s\n", e.msg);
         return e.code;
     }
-    return 0;
+    return kt_stdout_done("curvature");
+}
+
+int main(int argc, char **argv)
+{
+    kt_tool_start();
+    kt_exit(tool_main(argc, argv));
 }

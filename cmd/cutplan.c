@@ -26,7 +26,7 @@ static int usage_error(const char *msg, const char *arg)
     return KT_EINPUT;
 }
 
-int main(int argc, char **argv)
+static int tool_main(int argc, char **argv)
 {
     static const struct option LONG[] = {{"output", required_argument, NULL, 'o'},
                                          {"mesh-out", required_argument, NULL, 'm'},
@@ -44,8 +44,8 @@ int main(int argc, char **argv)
         case 'm': o.mesh_out = optarg; break;
         case 'b': o.binary = 1; break;
         case 'q': o.quiet = 1; break;
-        case 'h': fputs(USAGE, stdout); return 0;
-        case 'V': puts("cutplan (keratome) " KT_VERSION); return 0;
+        case 'h': fputs(USAGE, stdout); return kt_stdout_done("cutplan");
+        case 'V': puts("cutplan (keratome) " KT_VERSION); return kt_stdout_done("cutplan");
         default: return usage_error("unknown or incomplete option", argv[optind - 1]);
         }
     }
@@ -60,5 +60,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "cutplan: %s\n", e.msg);
         return e.code;
     }
-    return 0;
+    return kt_stdout_done("cutplan");
+}
+
+int main(int argc, char **argv)
+{
+    kt_tool_start();
+    kt_exit(tool_main(argc, argv));
 }

@@ -35,7 +35,7 @@ static void print_answer(const kt_nomo_answer *a)
                       : "under-corrects: the longest simulated arc");
 }
 
-int main(int argc, char **argv)
+static int tool_main(int argc, char **argv)
 {
     enum { O_KS = 256, O_KF, O_AXIS, O_AGE, O_TARGET, O_DEPTH, O_DIAM };
     static const struct option lo[] = {
@@ -48,13 +48,19 @@ int main(int argc, char **argv)
     int c;
     while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
         double v;
-        if (c == 'h') { fputs(usage, stdout); return 0; }
+        if (c == 'h') { fputs(usage, stdout); return kt_stdout_done("lri-nomogram"); }
         if (c == '?') { fputs(usage, stderr); return KT_EINPUT; }
         if (kt_parse_number(optarg, &v) || !isfinite(v))
             return bad(argv[optind - 2], optarg, "a number");
         switch (c) {
-        case O_KS: q.k_steep = v; break;
-        case O_KF: q.k_flat = v; break;
+        case O_KS:
+        case O_KF:
+            if (!(v >= KT_NOMO_K_MIN && v <= KT_NOMO_K_MAX))
+                return bad(c == O_KS ? "--k-steep" : "--k-flat", optarg,
+                           "a keratometry reading in [30, 70] D");
+            if (c == O_KS) q.k_steep = v;
+            else q.k_flat = v;
+            break;
         case O_AXIS:
             if (!(v >= 0 && v < 180)) return bad("--axis", optarg, "an axis in [0, 180) deg");
             q.axis = v;
@@ -64,7 +70,8 @@ int main(int argc, char **argv)
             q.age = v;
             break;
         case O_TARGET:
-            if (!(v >= 0)) return bad("--target", optarg, "a cylinder >= 0 D");
+            if (!(v > 0 && v <= KT_NOMO_CYL_MAX))
+                return bad("--target", optarg, "a cylinder to correct in (0, 10] D");
             q.target = v;
             break;
         case O_DEPTH:
@@ -72,7 +79,7 @@ int main(int argc, char **argv)
             q.depth = v;
             break;
         case O_DIAM:
-            if (!(v > 0)) return bad("--diameter", optarg, "a diameter > 0 mm");
+            if (!(v > 0 && v <= 14)) return bad("--diameter", optarg, "a diameter in (0, 14] mm");
             q.diameter = v;
             break;
         }
@@ -82,9 +89,14 @@ int main(int argc, char **argv)
         fputs(usage, stderr);
         return KT_EINPUT;
     }
-    if (!(q.k_flat > 0 && q.k_steep >= q.k_flat)) {
-        fprintf(stderr, "lri-nomogram: --k-steep %g --k-flat %g: expected K steep >= K flat > 0 D\n",
+    if (!(q.k_steep >= q.k_flat)) {
+        fprintf(stderr, "lri-nomogram: --k-steep %g --k-flat %g: expected K steep >= K flat\n",
                 q.k_steep, q.k_flat);
+        return KT_EINPUT;
+    }
+    if (isnan(q.target) && !(q.k_steep - q.k_flat > 0 && q.k_steep - q.k_flat <= KT_NOMO_CYL_MAX)) {
+        fprintf(stderr, "lri-nomogram: --k-steep %g --k-flat %g: expected a cylinder K steep - "
+                "K flat in (0, 10] D to correct (or --target)\n", q.k_steep, q.k_flat);
         return KT_EINPUT;
     }
     if (isnan(q.target)) q.target = q.k_steep - q.k_flat;
@@ -109,5 +121,11 @@ int main(int argc, char **argv)
            "\tages_y\tnote\n");
     for (int i = 0; i < 2; i++)
         if (ans[i].incisions) print_answer(&ans[i]);
-    return 0;
+    return kt_stdout_done("lri-nomogram");
+}
+
+int main(int argc, char **argv)
+{
+    kt_tool_start();
+    kt_exit(tool_main(argc, argv));
 }

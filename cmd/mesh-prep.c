@@ -35,7 +35,7 @@ static int parse_ordering(const char *s)
     return 0;
 }
 
-int main(int argc, char **argv)
+static int tool_main(int argc, char **argv)
 {
     static const struct option LONG[] = {{"output", required_argument, NULL, 'o'},
                                          {"ordering", required_argument, NULL, 'r'},
@@ -60,8 +60,8 @@ int main(int argc, char **argv)
             break;
         case 'b': o.binary = 1; break;
         case 'q': o.quiet = 1; break;
-        case 'h': fputs(USAGE, stdout); return 0;
-        case 'V': puts("mesh-prep (keratome) " KT_VERSION); return 0;
+        case 'h': fputs(USAGE, stdout); return kt_stdout_done("mesh-prep");
+        case 'V': puts("mesh-prep (keratome) " KT_VERSION); return kt_stdout_done("mesh-prep");
         default: return usage_error("unknown or incomplete option", argv[optind - 1]);
         }
     }
@@ -74,5 +74,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "mesh-prep: %s\n", e.msg);
         return e.code;
     }
-    return 0;
+    return kt_stdout_done("mesh-prep");
+}
+
+int main(int argc, char **argv)
+{
+    kt_tool_start();
+    kt_exit(tool_main(argc, argv));
 }

@@ -148,7 +148,8 @@ static void abs_path(const char *p, char *out, size_t n)
 static int open_edits(run *r, const char *path, const char *mesh, kt_err *e)
 {
     r->edits = strcmp(path, "-") == 0 ? stdin : fopen(path, "r");
-    if (!r->edits) return kt_fail(e, KT_EINPUT, "%s: cannot open the edits stream", path);
+    if (!r->edits)
+        return kt_fail(e, KT_EINPUT, "%s: cannot open the edits stream: %s", path, strerror(errno));
     if (kt_edits_open(&r->rd, r->edits, strcmp(path, "-") == 0 ? "<stdin>" : path, e))
         return e->code;
     if (r->rd.h.nn != r->mesh.nn || r->rd.h.ne != r->mesh.ne)

@@ -246,6 +246,9 @@ static int commit_files(run_ctx *c, kt_err *e)
     for (int i = 0; i < c->nfile; i++) {
         char from[PATHMAX], to[PATHMAX];
         if (kt_curvrun_join(from, c->tmpdir, c->file[i], e) || kt_curvrun_join(to, c->outdir, c->file[i], e)) return e->code;
+        struct stat st; /* never rename over a device, a FIFO or a directory */
+        if (lstat(to, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode))
+            return kt_fail(e, KT_EINPUT, "%s: exists and is not a regular file: not replaced", to);
         if (rename(from, to) != 0)
             return kt_fail(e, KT_ERUN, "%s: cannot move into place: %s", to, strerror(errno));
     }

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "blas.h"
 #include "msh.h"
@@ -87,7 +88,9 @@ int kt_cutplan_run(const kt_cutplan_opts *o, kt_err *e)
     kt_plan *p = kt_calloc(1, sizeof *p, e);
     kt_mesh m = {0};
     kt_incise *c = NULL;
-    if (!p || kt_plan_load(o->plan, p, e) || kt_msh_read(o->mesh, &m, e)) goto done;
+    if (!p || kt_out_check(o->out, e) || (o->mesh_out && kt_out_check(o->mesh_out, e)) ||
+        kt_plan_load(o->plan, p, e) || kt_msh_read(o->mesh, &m, e))
+        goto done;
     if (kt_plan_check_mesh(p, &m, o->mesh, e)) goto done;
     double t1 = kt_now();
     if (kt_incise_begin(&c, p, &m, o->quiet, e)) goto done;
@@ -96,7 +99,10 @@ int kt_cutplan_run(const kt_cutplan_opts *o, kt_err *e)
     double t2 = kt_now();
     /* the mesh goes first (a reader down the pipe opens it at once); a failed cut takes it back */
     if (stream(o, p, c, &m, e)) {
-        if (o->mesh_out && strcmp(o->mesh_out, "-") != 0) remove(o->mesh_out);
+        struct stat st; /* a device or FIFO written to directly is never removed */
+        if (o->mesh_out && strcmp(o->mesh_out, "-") != 0 && lstat(o->mesh_out, &st) == 0 &&
+            S_ISREG(st.st_mode))
+            remove(o->mesh_out);
         goto done;
     }
     kt_log(o->quiet, "cutplan: %d steps, %ld nodes duplicated, %ld faces cut, %ld constraints, "

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "blas.h"
 #include "build.h"
@@ -162,7 +163,10 @@ static void print_summary(FILE *f, const kt_mesh *m, const run_info *r)
 /* Fail early, before meshing, if the output cannot be created. */
 static int probe_output(const char *path, kt_err *e)
 {
+    struct stat st;
     if (strcmp(path, "-") == 0) return KT_OK;
+    if (kt_out_check(path, e)) return e->code;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) return KT_OK; /* written to directly */
     kt_out o;
     if (kt_out_open(&o, path, e)) return e->code;
     kt_out_abort(&o);

@@ -4,9 +4,11 @@
 
 #include "curv.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 enum { C_EYE, C_AGE, C_CYL, C_AXIS, C_INC, C_ARC, C_DEPTH, C_DIAM, C_SIA, C_SIAAX, C_N };
 static const char *const col_name[C_N] = {"eye", "age_y", "cyl_pre_D", "axis_deg", "incisions",
@@ -83,19 +85,30 @@ int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e)
 {
     memset(t, 0, sizeof *t);
     FILE *in = fopen(path, "r");
-    if (!in) return kt_fail(e, KT_EINPUT, "%s:1:1: expected a readable nomogram.tsv", path);
+    if (!in) return kt_fail(e, KT_EINPUT, "%s: cannot open the nomogram table: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(in), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(in);
+        return kt_fail(e, KT_EINPUT, "%s: cannot read the nomogram table: is a directory", path);
+    }
     char *line = NULL;
     size_t cap = 0;
-    ssize_t len;
+    long len;
     int idx[C_N], lineno = 0, rc = KT_OK, cap_c = 0;
-    while ((len = getline(&line, &cap, in)) >= 0) {
+    while ((len = kt_line_read(in, &line, &cap, KT_NOMO_MAX_LINE, e)) >= 0) {
         lineno++;
         while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = '\0';
         if (lineno == 1) {
-            if ((rc = read_header(line, idx, path, e))) break;
+            char *h = strncmp(line, "\xef\xbb\xbf", 3) == 0 ? line + 3 : line; /* UTF-8 BOM */
+            if ((rc = read_header(h, idx, path, e))) break;
             continue;
         }
         if (len == 0) continue;
+        if (t->n == KT_NOMO_MAX_CASES) {
+            rc = kt_fail(e, KT_EINPUT, "%s:%d:1: expected at most %d cases", path, lineno,
+                         KT_NOMO_MAX_CASES);
+            break;
+        }
         if (t->n == cap_c) {
             int nc = cap_c ? 2 * cap_c : 64;
             kt_nomo_case *p = kt_realloc(t->c, (size_t)nc, sizeof *p, e);
@@ -106,9 +119,17 @@ int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e)
         if ((rc = parse_case(line, lineno, idx, &t->c[t->n], path, e))) break;
         t->n++;
     }
+    if (rc == KT_OK && len == -4) rc = e->code;
+    if (rc == KT_OK && len == -2)
+        rc = kt_fail(e, KT_EINPUT, "%s:%d: expected text, found a NUL byte", path, lineno + 1);
+    if (rc == KT_OK && len == -3)
+        rc = kt_fail(e, KT_EINPUT, "%s:%d: expected a line of at most %d bytes", path, lineno + 1,
+                     KT_NOMO_MAX_LINE);
+    if (rc == KT_OK && ferror(in))
+        rc = kt_fail(e, KT_EINPUT, "%s: read error: %s", path, strerror(errno));
     free(line);
     fclose(in);
-    if (rc == KT_OK && lineno == 0) rc = kt_fail(e, KT_EINPUT, "%s:1:1: expected a header", path);
+    if (rc == KT_OK && lineno == 0) rc = kt_fail(e, KT_EINPUT, "%s:1:1: expected a header, found an empty file", path);
     if (rc == KT_OK && t->n == 0) rc = kt_fail(e, KT_EINPUT, "%s:2:1: expected a case", path);
     if (rc) kt_nomo_free(t);
     return rc;

@@ -27,9 +27,19 @@ typedef struct kt_nomo {
     int n;
 } kt_nomo;
 
+/* Plausible inputs (lri-nomogram(1)): keratometry readings in [30, 70] D (normal corneas 40-48 D,
+ * keratoconus into the 60s), a cylinder to correct in (0, 10] D (LRIs treat up to about 3 D). */
+#define KT_NOMO_K_MIN 30.0
+#define KT_NOMO_K_MAX 70.0
+#define KT_NOMO_CYL_MAX 10.0
+
+/* Limits of a table: bytes in one line (its end included), cases. */
+#define KT_NOMO_MAX_LINE 65536
+#define KT_NOMO_MAX_CASES 1000000
+
 /* Read a nomogram.tsv (tab-separated, a header naming at least eye, age_y, cyl_pre_D, axis_deg,
  * incisions, arc_deg, depth, diameter_mm, sia_D, sia_axis_deg). Bad input: KT_EINPUT with
- * "path:line:col: expected ...". */
+ * "path:line:col: expected ...". A UTF-8 byte-order mark before the header is skipped. */
 int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e);
 void kt_nomo_free(kt_nomo *t);
 

@@ -8,16 +8,37 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
-int kt_cursor_open(kt_cursor *c, const char *path, kt_err *e)
+/* 1 when the text at b (n bytes) cannot begin with magic: after a UTF-8 byte-order mark and
+ * blanks, its first bytes differ (0 while too few bytes were read to tell). */
+static int wrong_start(const unsigned char *b, size_t n, const char *magic, int at_end)
+{
+    size_t i = n >= 3 && memcmp(b, "\xef\xbb\xbf", 3) == 0 ? 3 : 0, k = strlen(magic);
+    while (i < n && kt_cursor_is_ws(b[i])) i++;
+    if (i == n) return at_end;
+    size_t m = n - i < k ? n - i : k;
+    if (memcmp(b + i, magic, m) != 0) return 1;
+    return at_end && m < k;
+}
+
+int kt_cursor_open(kt_cursor *c, const char *path, const char *magic, size_t max, kt_err *e)
 {
     memset(c, 0, sizeof *c);
     c->e = e;
     c->path = strcmp(path, "-") == 0 ? "<stdin>" : path;
     FILE *f = strcmp(path, "-") == 0 ? stdin : fopen(path, "rb");
-    if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", c->path, strerror(errno));
+    struct stat st;
+    int rc = KT_OK;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode))
+        rc = kt_fail(e, KT_EINPUT, "%s: cannot read: is a directory", c->path);
+    else if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && (unsigned long long)st.st_size > max)
+        rc = kt_fail(e, KT_EINPUT, "%s: expected a file of at most %zu bytes, found %lld", c->path,
+                     max, (long long)st.st_size);
     size_t cap = 1 << 16, n = 0;
-    unsigned char *b = kt_calloc(cap, 1, e);
+    unsigned char *b = rc ? NULL : kt_calloc(cap, 1, e);
+    int checked = 0;
     while (b) {
         if (n + 1 >= cap) {
             unsigned char *nb = kt_realloc(b, cap * 2, 1, e);
@@ -30,18 +51,28 @@ int kt_cursor_open(kt_cursor *c, const char *path, kt_err *e)
         }
         size_t got = fread(b + n, 1, cap - 1 - n, f);
         n += got;
+        if (!checked && (n >= 64 || got == 0)) {
+            checked = 1; /* wrong from the start: the parser's error names it, read no more */
+            if (wrong_start(b, n, magic, got == 0)) break;
+        }
         if (got == 0) break;
+        if (n > max) {
+            rc = kt_fail(e, KT_EINPUT, "%s: expected a file of at most %zu bytes, found more",
+                         c->path, max);
+            break;
+        }
     }
-    int bad = b && ferror(f);
+    int err = b && ferror(f) ? errno : 0;
     if (f != stdin) fclose(f);
     if (!b) return e->code;
-    if (bad) {
+    if (rc || err) {
         free(b);
-        return kt_fail(e, KT_EINPUT, "%s: read error", path);
+        return rc ? rc : kt_fail(e, KT_EINPUT, "%s: read error: %s", c->path, strerror(err));
     }
     b[n] = '\0';
     c->b = b;
     c->n = n;
+    if (n >= 3 && memcmp(b, "\xef\xbb\xbf", 3) == 0) c->p = 3; /* a UTF-8 byte-order mark */
     return KT_OK;
 }
 

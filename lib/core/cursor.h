@@ -16,8 +16,13 @@ typedef struct kt_cursor {
     kt_err *e;
 } kt_cursor;
 
-/* Read the whole file (path "-": stdin) into c->b; KT_EINPUT when it cannot be opened or read. */
-int kt_cursor_open(kt_cursor *c, const char *path, kt_err *e);
+/* Read the whole file (path "-": stdin) into c->b, at most max bytes: a larger regular file is
+ * refused before reading, a stream once it passes max. A file whose text does not begin with
+ * magic (after a UTF-8 byte-order mark, which is skipped, and blanks) is read no further than
+ * its first bytes, so /dev/zero or an endless pipe of anything else ends at once, the parser
+ * then naming what it found at line 1. KT_EINPUT when it cannot be opened or read (a
+ * directory), or is too large. */
+int kt_cursor_open(kt_cursor *c, const char *path, const char *magic, size_t max, kt_err *e);
 void kt_cursor_close(kt_cursor *c);
 
 /* Record KT_EINPUT at c->at: "file:line:col: msg", "file: byte N: msg" in a binary section,

@@ -1,5 +1,5 @@
 /* util.c: errors, allocation, timers, progress and atomic output. */
-#define _XOPEN_SOURCE 700
+#define _GNU_SOURCE
 #include "util.h"
 
 #include <errno.h>
@@ -10,6 +10,11 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -17,10 +22,23 @@
 int kt_fail(kt_err *e, int code, const char *fmt, ...)
 {
     if (!e || e->code != KT_OK) return e ? e->code : code;
+    char raw[sizeof e->msg];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(e->msg, sizeof e->msg, fmt, ap);
+    vsnprintf(raw, sizeof raw, fmt, ap);
     va_end(ap);
+    /* Control characters of the input a message quotes are shown escaped, never sent to the
+     * terminal: C0 and DEL as \xNN, C1 (UTF-8 c2 80..9f) as \u00NN. */
+    size_t o = 0, cap = sizeof e->msg;
+    for (const unsigned char *p = (const unsigned char *)raw; *p && o + 7 < cap; p++) {
+        if (*p < 0x20 || *p == 0x7f)
+            o += (size_t)snprintf(e->msg + o, cap - o, "\\x%02x", *p);
+        else if (*p == 0xc2 && p[1] >= 0x80 && p[1] <= 0x9f)
+            o += (size_t)snprintf(e->msg + o, cap - o, "\\u00%02x", *++p);
+        else
+            e->msg[o++] = (char)*p;
+    }
+    e->msg[o] = '\0';
     e->code = code;
     return code;
 }
@@ -130,6 +148,74 @@ void kt_log(int quiet, const char *fmt, ...)
     va_end(ap);
 }
 
+/* The name stem of the temporaries of target `path` (the file name part only) for this host:
+ * "NAME.tmp.HOST." ; a temporary is the stem, the writer's pid, '.', six random characters. */
+static void tmp_stem(const char *path, char *stem, size_t size)
+{
+    char host[65] = "";
+    if (gethostname(host, sizeof host - 1) != 0 || !host[0]) snprintf(host, sizeof host, "host");
+    for (char *h = host; *h; h++)
+        if (*h == '/' || *h == '.') *h = '_';
+    const char *base = strrchr(path, '/');
+    snprintf(stem, size, "%s.tmp.%s.", base ? base + 1 : path, host);
+}
+
+/* Remove the temporaries of `path` left by dead processes of this host: regular files of ours
+ * named STEM PID '.' XXXXXX whose PID no longer exists. A live writer's file is never touched
+ * (its pid exists), nor another host's (the stem names the host), nor another user's. */
+static void clean_stale(const char *path)
+{
+    char dir[4096], stem[512];
+    const char *slash = strrchr(path, '/');
+    if (slash) snprintf(dir, sizeof dir, "%.*s", (int)(slash - path == 0 ? 1 : slash - path), path);
+    else snprintf(dir, sizeof dir, ".");
+    tmp_stem(path, stem, sizeof stem);
+    size_t ls = strlen(stem);
+    DIR *d = opendir(dir);
+    if (!d) return;
+    struct dirent *de;
+    while ((de = readdir(d)) != NULL) {
+        const char *n = de->d_name;
+        if (strncmp(n, stem, ls) != 0) continue;
+        char *end;
+        errno = 0;
+        long pid = strtol(n + ls, &end, 10);
+        if (end == n + ls || errno || pid <= 0 || pid > INT_MAX || *end != '.' || strlen(end + 1) != 6)
+            continue;
+        if (pid == (long)getpid() || kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue;
+        struct stat st;
+        char full[4096 + 256];
+        snprintf(full, sizeof full, "%s/%s", dir, n);
+        if (lstat(full, &st) == 0 && S_ISREG(st.st_mode) && st.st_uid == geteuid()) unlink(full);
+    }
+    closedir(d);
+}
+
+/* The file an output to `path` replaces: path itself, or the end of its chain of symbolic
+ * links (so that the link stays a link), into real (PATH_MAX bytes). */
+static void target_of(const char *path, char *real)
+{
+    struct stat st;
+    snprintf(real, PATH_MAX, "%s", path);
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
+        char r[PATH_MAX];
+        if (realpath(path, r)) snprintf(real, PATH_MAX, "%s", r);
+    }
+}
+
+int kt_out_check(const char *path, kt_err *e)
+{
+    if (strcmp(path, "-") == 0) return KT_OK;
+    struct stat st;
+    if (!path[0]) return kt_fail(e, KT_EINPUT, "expected an output file name, found ''");
+    if (stat(path, &st) != 0) return KT_OK; /* made by kt_out_open, which reports failures */
+    if (S_ISDIR(st.st_mode))
+        return kt_fail(e, KT_EINPUT, "%s: cannot write the output file: is a directory", path);
+    if (!S_ISREG(st.st_mode) && access(path, W_OK) != 0)
+        return kt_fail(e, KT_EINPUT, "%s: cannot write the output: %s", path, strerror(errno));
+    return KT_OK;
+}
+
 int kt_out_open(kt_out *o, const char *path, kt_err *e)
 {
     memset(o, 0, sizeof *o);
@@ -138,13 +224,34 @@ int kt_out_open(kt_out *o, const char *path, kt_err *e)
         o->is_stdout = 1;
         return KT_OK;
     }
-    o->path = kt_strdup(path, e);
-    o->tmp = kt_calloc(strlen(path) + 16, 1, e);
+    if (kt_out_check(path, e)) return e->code;
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        /* A device or FIFO is written to as it is: renaming a file over it would replace it. */
+        int fd = open(path, O_WRONLY | O_NOCTTY);
+        if (fd < 0) return kt_fail(e, KT_EINPUT, "%s: cannot open the output: %s", path, strerror(errno));
+        o->f = fdopen(fd, "wb");
+        if (!o->f) {
+            close(fd);
+            return kt_fail(e, KT_ERUN, "%s: fdopen failed", path);
+        }
+        o->direct = 1;
+        return KT_OK;
+    }
+    char real[PATH_MAX], stem[512];
+    target_of(path, real);
+    clean_stale(real);
+    tmp_stem(real, stem, sizeof stem);
+    const char *slash = strrchr(real, '/');
+    int dirlen = slash ? (int)(slash - real + 1) : 0;
+    size_t size = strlen(real) + strlen(stem) + 32;
+    o->path = kt_strdup(real, e);
+    o->tmp = kt_calloc(size, 1, e);
     if (!o->path || !o->tmp) {
         kt_out_abort(o);
         return e->code;
     }
-    sprintf(o->tmp, "%s.tmp.XXXXXX", path);
+    snprintf(o->tmp, size, "%.*s%s%ld.XXXXXX", dirlen, real, stem, (long)getpid());
     int fd = mkstemp(o->tmp);
     if (fd < 0) {
         int err = errno;
@@ -182,8 +289,12 @@ int kt_out_commit(kt_out *o, kt_err *e)
         kt_out_abort(o);
         return e->code;
     }
+    if (o->direct) {
+        memset(o, 0, sizeof *o);
+        return KT_OK;
+    }
     if (rename(o->tmp, o->path) != 0) {
-        int err = errno;
+        err = errno;
         kt_out_abort(o);
         return kt_fail(e, KT_ERUN, "cannot rename output into place: %s", strerror(err));
     }
@@ -195,11 +306,88 @@ int kt_out_commit(kt_out *o, kt_err *e)
 
 void kt_out_abort(kt_out *o)
 {
-    if (o->f && !o->is_stdout) fclose(o->f);
+    if (o->f && !o->is_stdout) fclose(o->f); /* a direct output keeps what it got */
     if (o->tmp) unlink(o->tmp);
     free(o->tmp);
     free(o->path);
     memset(o, 0, sizeof *o);
+}
+
+/* Under a limit on address space or data (ulimit -v, -d), one BLAS thread: a worker thread of
+ * OpenBLAS whose buffer allocation fails retries it forever, and the process hangs in the BLAS
+ * call or, at exit, in OpenBLAS's destructor joining that thread. Looked up at run time, so
+ * that another BLAS needs nothing. */
+static void blas_guard(void)
+{
+    struct rlimit as, data;
+    if (getrlimit(RLIMIT_AS, &as) != 0 || getrlimit(RLIMIT_DATA, &data) != 0) return;
+    if (as.rlim_cur == RLIM_INFINITY && data.rlim_cur == RLIM_INFINITY) return;
+    static const char *const setters[] = {"openblas_set_num_threads", "goto_set_num_threads"};
+    for (int i = 0; i < 2; i++) {
+        void *sym = dlsym(RTLD_DEFAULT, setters[i]);
+        void (*set)(int);
+        memcpy(&set, &sym, sizeof set);
+        if (sym) {
+            set(1);
+            return;
+        }
+    }
+}
+
+void kt_tool_start(void)
+{
+    for (int fd = 0; fd <= 2; fd++) {
+        if (fcntl(fd, F_GETFD) != -1 || errno != EBADF) continue;
+        /* stdin write-only, stdout and stderr read-only: every use fails with EBADF. */
+        int g = open("/dev/null", fd == 0 ? O_WRONLY : O_RDONLY);
+        if (g >= 0 && g != fd) {
+            dup2(g, fd);
+            close(g);
+        }
+    }
+    blas_guard();
+}
+
+void kt_exit(int code)
+{
+    fflush(NULL);
+#if defined(__SANITIZE_ADDRESS__)
+    exit(code); /* LeakSanitizer checks at exit; ASan cannot run under ulimit -v anyway */
+#else
+    _exit(code);
+#endif
+}
+
+int kt_stdout_done(const char *tool)
+{
+    errno = 0;
+    int bad = fflush(stdout) != 0 || ferror(stdout);
+    int err = errno;
+    if (fclose(stdout) != 0 && !bad) bad = 1, err = errno;
+    if (!bad) return KT_OK;
+    fprintf(stderr, "%s: <stdout>: write failed: %s\n", tool, err ? strerror(err) : "output lost");
+    return KT_ERUN;
+}
+
+long kt_line_read(FILE *f, char **buf, size_t *cap, size_t max, kt_err *e)
+{
+    size_t n = 0;
+    int ch;
+    while ((ch = getc(f)) != EOF) {
+        if (ch == '\0') return -2;
+        if (n + 2 > *cap) {
+            if (n >= max) return -3;
+            size_t nc = *cap ? 2 * *cap : 256;
+            char *nb = kt_realloc(*buf, nc, 1, e);
+            if (!nb) return -4;
+            *buf = nb, *cap = nc;
+        }
+        (*buf)[n++] = (char)ch;
+        if (ch == '\n') break;
+    }
+    if (n == 0) return -1;
+    (*buf)[n] = '\0';
+    return n > max ? -3 : (long)n;
 }
 
 void kt_path_relative(const char *file, const char *dir, char *out, size_t size)

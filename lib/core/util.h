@@ -45,17 +45,48 @@ void kt_progress_end(kt_progress *p);
 /* A message on stderr unless quiet. */
 void kt_log(int quiet, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-/* Atomic output: written to a temporary beside the target and renamed on commit, so a failed
- * run leaves no partial file. Path "-" is stdout (no rename). */
+/* Atomic output: written to a temporary beside the target ("NAME.tmp.HOST.PID.XXXXXX") and
+ * renamed on commit, so a failed run leaves no partial file; the temporaries that dead processes
+ * of this host left for the same target are removed on open. Path "-" is stdout (no rename). A
+ * target that exists and is not a regular file (a device such as /dev/null, a FIFO) is written
+ * to directly (direct), never replaced; a directory is refused (KT_EINPUT). A symbolic link
+ * stays a link: the file it leads to is replaced. */
 typedef struct kt_out {
     FILE *f;
     char *path, *tmp;
-    int is_stdout;
+    int is_stdout, direct;
 } kt_out;
 
+/* KT_OK when path can be an output target (it is not a directory, and a device or FIFO there
+ * is writable): check it before any work. Opens nothing. */
+int kt_out_check(const char *path, kt_err *e);
 int kt_out_open(kt_out *o, const char *path, kt_err *e);
 int kt_out_commit(kt_out *o, kt_err *e);
 void kt_out_abort(kt_out *o);
+
+/* At a tool's start: a closed standard stream (0, 1, 2) gets a descriptor on which every
+ * read or write fails, so that no file the tool opens takes its number and an output to a
+ * closed stdout is an error, not a write into that file. Under a limit on address space or
+ * data (ulimit -v, -d) BLAS runs one thread: OpenBLAS's worker threads retry a failed buffer
+ * allocation forever, so that the process would hang instead of failing (exit 1). */
+void kt_tool_start(void);
+
+/* A tool's end, with exit status code: stdio flushed, then _exit, skipping the libraries'
+ * destructors: OpenBLAS's joins its worker threads, and one whose buffer allocation failed
+ * under a memory limit retries it for ever, so that a run that failed (or even succeeded)
+ * hung at exit. Sanitizer builds exit normally, for LeakSanitizer's check at exit. */
+void kt_exit(int code) __attribute__((noreturn));
+
+/* At a tool's successful end: flush and close stdout. KT_OK, or KT_ERUN (the exit code) with
+ * "TOOL: <stdout>: write failed: why" on stderr when any of its output was lost (a full disk,
+ * a closed stdout). */
+int kt_stdout_done(const char *tool);
+
+/* One line of f into *buf (grown as needed; *cap its size), reading no further than a NUL byte
+ * or than max bytes, so that /dev/zero or an endless line cannot grow memory: the line's
+ * length (its '\n' included, NUL-terminated), -1 at the end of the stream (nothing read), -2
+ * on a NUL byte, -3 on a line longer than max, -4 out of memory (recorded in e). */
+long kt_line_read(FILE *f, char **buf, size_t *cap, size_t max, kt_err *e);
 
 /* The path of file relative to the folder dir, both existing: "../mesh/eye.msh". Resolves
  * both (realpath); when either cannot be resolved or the result does not fit, file as given.

@@ -11,6 +11,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* A line being tokenized in place: tokens are split by blanks, columns are 1-based. */
 typedef struct cursor {
@@ -65,23 +66,25 @@ static int strip(char *s)
     return 0;
 }
 
-/* The next content line into *buf (getline storage); 1 read, 0 at end of stream, -1 error. */
+/* The next content line into *buf; 1 read, 0 at end of stream, -1 error. A UTF-8 byte-order
+ * mark at the start of the stream is skipped. */
 static int read_line(kt_edits_reader *r, char **buf, size_t *cap, kt_err *e)
 {
     for (;;) {
         errno = 0;
-        ssize_t n = getline(buf, cap, r->f);
-        if (n < 0) {
+        long n = kt_line_read(r->f, buf, cap, KT_EDITS_MAX_LINE, e);
+        if (n == -4) return -1;
+        if (n == -1) {
             if (ferror(r->f)) return kt_fail(e, KT_ERUN, "%s: read error: %s", r->name,
                                              strerror(errno)), -1;
             return 0;
         }
         r->line++;
-        if (n > KT_EDITS_MAX_LINE)
-            return bad(r, 0, e, "expected a line of at most %d bytes, found %zd", KT_EDITS_MAX_LINE,
-                       n), -1;
-        if ((size_t)n != strlen(*buf))
+        if (n == -3)
+            return bad(r, 0, e, "expected a line of at most %d bytes, found more", KT_EDITS_MAX_LINE), -1;
+        if (n == -2)
             return bad(r, 0, e, "expected text, found a NUL byte"), -1;
+        if (r->line == 1 && strncmp(*buf, "\xef\xbb\xbf", 3) == 0) memmove(*buf, *buf + 3, (size_t)n - 2);
         if (strip(*buf)) return 1;
     }
 }
@@ -286,6 +289,9 @@ int kt_edits_open(kt_edits_reader *r, FILE *f, const char *name, kt_err *e)
     memset(r, 0, sizeof *r);
     r->f = f;
     r->name = name;
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode))
+        return kt_fail(e, KT_EINPUT, "%s: cannot read: is a directory", name);
     char *buf = NULL;
     size_t cap = 0;
     int rc = read_line(r, &buf, &cap, e);
@@ -448,6 +454,10 @@ static int parse_edit_line(kt_edits_reader *r, char *line, kt_step *s, int *done
 {
     cursor c = cursor_at(line);
     char *key = next_tok(&c);
+    long most = 4L * r->nn_cur + 1024; /* edits in one step: bounded by the mesh (man5) */
+    if (s->n >= most && strcmp(key, "end") != 0)
+        return bad(r, c.col, e, "expected at most %ld edits in step %d (4 per node and 1024)",
+                   most, s->index);
     if (strcmp(key, "dup") == 0) return parse_dup(r, &c, s, e);
     if (strcmp(key, "fix") == 0) return parse_fix(r, &c, s, e);
     if (strcmp(key, "force") == 0) return parse_force(r, &c, s, e);

@@ -4,6 +4,11 @@
 
 #include "mesh.h"
 
+/* The largest MSH file read, in bytes (4 GiB): a larger one is refused before it is read, a
+ * stream once it passes this; a file not starting with "$MeshFormat" is read no further than
+ * its first bytes. */
+#define KT_MSH_MAX_BYTES ((size_t)1 << 32)
+
 /* Read a MSH 4.1 file ("-" for stdin). Keeps 4-node or 10-node tets, 3- or 6-node triangles
  * that belong to physical groups, and the physical names; other elements are skipped. Node
  * tags are compacted to 0..nn-1 in tag order. A malformed file is KT_EINPUT naming

@@ -9,6 +9,7 @@
 
 #include <errno.h>
 #include <limits.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -349,8 +350,15 @@ static int read_nodes(msh_rd *s)
         }
         int extra = param ? (edim < 3 ? edim : 3) : 0;
         for (size_t i = 0; i < cnt && !r->e->code; i++) {
-            for (int c = 0; c < 3; c++)
-                if (kt_cursor_double(r, &xyz[3 * (k + i) + c], "node coordinate")) break;
+            for (int c = 0; c < 3; c++) {
+                double *x = &xyz[3 * (k + i) + c];
+                if (kt_cursor_double(r, x, "node coordinate")) break;
+                if (!(fabs(*x) <= KT_MESH_MAX_COORD)) {
+                    kt_cursor_fail(r, "expected a node coordinate within +-%g mm, found %g",
+                                   KT_MESH_MAX_COORD, *x);
+                    break;
+                }
+            }
             double uvw;
             for (int c = 0; c < extra && !r->e->code; c++) kt_cursor_double(r, &uvw, "parametric coordinate");
         }
@@ -635,7 +643,7 @@ int kt_msh_read(const char *path, kt_mesh *m, kt_err *e)
     memset(m, 0, sizeof *m);
     msh_rd s;
     memset(&s, 0, sizeof s);
-    if (kt_cursor_open(&s.r, path, e)) return e->code;
+    if (kt_cursor_open(&s.r, path, "$MeshFormat", KT_MSH_MAX_BYTES, e)) return e->code;
     s.m = m;
     if (read_sections(&s) == KT_OK) build_mesh(&s);
     msh_rd_free(&s);

@@ -3,6 +3,7 @@
 
 #include <stdint.h>
 #include <stdlib.h>
+#include <errno.h>
 #include <string.h>
 
 typedef struct wr {
@@ -211,7 +212,8 @@ int kt_msh_write_file(FILE *f, const kt_mesh *m, int binary, kt_err *e)
     write_entities(&w, m, nsurf, nvol);
     write_nodes(&w, m, vol_tag);
     write_elements(&w, m);
-    if (ferror(f)) return kt_fail(e, KT_ERUN, "write failed (disk full?)");
+    if (fflush(f) != 0 || ferror(f))
+        return kt_fail(e, KT_ERUN, "write failed: %s", errno ? strerror(errno) : "output lost");
     return KT_OK;
 }
 

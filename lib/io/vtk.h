@@ -43,6 +43,10 @@ typedef struct kt_vtk {
     kt_vtk_field *field;
 } kt_vtk;
 
+/* The largest VTK file read, in bytes (4 GiB), enforced like KT_MSH_MAX_BYTES; a file not
+ * starting with "# vtk DataFile Version" is read no further than its first bytes. */
+#define KT_VTK_MAX_BYTES ((size_t)1 << 32)
+
 /* Read an ASCII or binary legacy file written by this module (or by another writer of the
  * same subset). Bad input is KT_EINPUT naming file:line or byte offset. */
 int kt_vtk_read(const char *path, kt_vtk *v, kt_err *e);

@@ -102,7 +102,13 @@ static int read_values(vr *r, const vtype *t, size_t count, double *out, const c
             return kt_cursor_fail(r, "expected %zu binary %s values for %s", count, t->name, what);
         }
         int swap = host_is_little();
-        for (size_t i = 0; i < count; i++) out[i] = decode_be(t, r->b + r->p + i * t->size, swap);
+        for (size_t i = 0; i < count; i++) {
+            out[i] = decode_be(t, r->b + r->p + i * t->size, swap);
+            if (!isfinite(out[i])) {
+                r->at = r->p + i * t->size;
+                return kt_cursor_fail(r, "expected a finite number for %s, found %g", what, out[i]);
+            }
+        }
         r->p += count * (size_t)t->size;
         return KT_OK;
     }
@@ -116,6 +122,8 @@ static int read_values(vr *r, const vtype *t, size_t count, double *out, const c
         size_t q = (size_t)((const unsigned char *)end - r->b);
         if (q == r->p || (q < r->n && !kt_cursor_is_ws(r->b[q])))
             return kt_cursor_fail(r, "expected a number for %s", what);
+        if (!isfinite(out[i]))
+            return kt_cursor_fail(r, "expected a finite number for %s, found %g", what, out[i]);
         if (t->is_int && out[i] != floor(out[i]))
             return kt_cursor_fail(r, "expected an integer for %s", what);
         r->p = q;
@@ -378,10 +386,10 @@ static int read_preamble(vtk_rd *s)
 {
     vr *r = &s->r;
     static const char magic[] = "# vtk DataFile Version";
-    r->at = 0;
-    if (r->n < sizeof magic || memcmp(r->b, magic, sizeof magic - 1) != 0)
+    r->at = r->p; /* after a UTF-8 byte-order mark */
+    if (r->n - r->p < sizeof magic || memcmp(r->b + r->p, magic, sizeof magic - 1) != 0)
         return kt_cursor_fail(r, "expected '%s x.y' as the first line", magic);
-    double ver = atof((const char *)r->b + sizeof magic - 1);
+    double ver = atof((const char *)r->b + r->p + sizeof magic - 1);
     if (ver >= 5.0)
         return kt_cursor_fail(r, "legacy VTK version %.1f (OFFSETS/CONNECTIVITY) is not supported; expected "
                           "version 4.2 or older", ver);
@@ -451,7 +459,7 @@ int kt_vtk_read(const char *path, kt_vtk *v, kt_err *e)
     memset(v, 0, sizeof *v);
     vtk_rd s;
     memset(&s, 0, sizeof s);
-    if (kt_cursor_open(&s.r, path, e)) return e->code;
+    if (kt_cursor_open(&s.r, path, "# vtk DataFile Version", KT_VTK_MAX_BYTES, e)) return e->code;
     s.v = v;
     s.assoc = -1;
     if (read_preamble(&s) == KT_OK) {

@@ -7,6 +7,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 const kt_yml_bounds KT_YML_ANY = {-HUGE_VAL, HUGE_VAL, 0, 0};
 const kt_yml_bounds KT_YML_POSITIVE = {0, HUGE_VAL, 1, 0};
@@ -108,6 +109,11 @@ static int read_text(kt_yml *y, const char *path, unsigned char **text, size_t *
 {
     FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
     if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        if (f != stdin) fclose(f);
+        return kt_fail(e, KT_EINPUT, "%s: cannot read: is a directory", file_name(y));
+    }
     size_t cap = 4096, n = 0, got;
     unsigned char *b = kt_calloc(cap, 1, e);
     while (b && (got = fread(b + n, 1, cap - n, f)) > 0) {
@@ -123,7 +129,7 @@ static int read_text(kt_yml *y, const char *path, unsigned char **text, size_t *
             b = nb, cap *= 2;
         }
     }
-    if (b && !e->code && ferror(f)) kt_fail(e, KT_EINPUT, "%s: read error", path);
+    if (b && !e->code && ferror(f)) kt_fail(e, KT_EINPUT, "%s: read error: %s", path, strerror(errno));
     if (f != stdin) fclose(f);
     if (e->code) {
         free(b);

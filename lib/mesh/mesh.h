@@ -11,6 +11,9 @@
  * 10 per quadratic tet, then stay well inside an int. Readers refuse more before allocating. */
 #define KT_MESH_MAX_NODES 100000000
 #define KT_MESH_MAX_TETS 100000000
+/* Node coordinates read from a file: finite and within +-1e6 mm (a kilometre; an eye is 24 mm),
+ * so that lengths, areas and volumes computed from them stay far from overflow. */
+#define KT_MESH_MAX_COORD 1e6
 
 /* A physical group: dimension 2 (a surface of triangles) or 3 (a region of tets). */
 typedef struct kt_group {

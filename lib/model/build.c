@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cgalin.h"
 #include "cgalmesh.h"
 #include "eye.h"
 #include "grid.h"
@@ -35,6 +36,7 @@ static int build_cgal(const kt_scene *s, int quiet, kt_mesh *m, kt_err *e)
 {
     const kt_cgal *g = &s->cgal;
     double scale = 1.0;
+    if (kt_cgalin_check(g->path, e)) return e->code;
     for (int it = 0;; it++) {
         double fs = g->facet_size * scale / g->unit, cs = g->cell_size * scale / g->unit;
         double fd = g->facet_distance / g->unit;

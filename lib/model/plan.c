@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "eye_geom.h"
+#include "scene_int.h"
 #include "yml.h"
 
 /* Defaults, documented in keratome-plan(5). */
@@ -63,20 +64,21 @@ static yaml_node_t *one_of(kt_yml *y, const yaml_node_t *map, const char *what, 
 }
 
 /* A vector of three quantities (dim KT_UNIT_NONE: plain numbers). */
-static int vec3(kt_yml *y, const yaml_node_t *n, const char *what, int dim, double *v, kt_err *e)
+static int vec3(kt_yml *y, const yaml_node_t *n, const char *what, int dim, double lim, double *v,
+                kt_err *e)
 {
     if (kt_yml_check_seq(y, n, what, 3, 3, e)) return e->code;
     for (int k = 0; k < 3; k++) {
         char w[96];
         snprintf(w, sizeof w, "%s[%d]", what, k);
-        if (kt_yml_quantity(y, kt_yml_seq_item(y, n, k), w, dim, KT_YML_ANY, &v[k], e)) return e->code;
+        if (kt_yml_quantity(y, kt_yml_seq_item(y, n, k), w, dim, kt_scene_range(-lim, lim, 0, 0), &v[k], e)) return e->code;
     }
     return KT_OK;
 }
 
 static int unit_vec3(kt_yml *y, const yaml_node_t *n, const char *what, double *v, kt_err *e)
 {
-    if (vec3(y, n, what, KT_UNIT_NONE, v, e)) return e->code;
+    if (vec3(y, n, what, KT_UNIT_NONE, 1e6, v, e)) return e->code;
     double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (!(len > 0) || !isfinite(len))
         return kt_yml_fail(y, n, e, "%s: expected a nonzero direction", what);
@@ -196,7 +198,7 @@ static int parse_depth(kt_yml *y, const yaml_node_t *n, const char *what, const 
     if (!(t > 0)) return kt_yml_fail(y, v, e, "%s: no corneal thickness at %g mm from the axis",
                                      w, 0.5 * inc->diameter);
     if (kt_yml_get(y, n, "depth")) {
-        if (kt_yml_key_quantity(y, n, what, "depth", KT_UNIT_LENGTH, KT_YML_POSITIVE, &inc->depth, e))
+        if (kt_yml_key_quantity(y, n, what, "depth", KT_UNIT_LENGTH, kt_scene_range(0, 5, 1, 0), &inc->depth, e))
             return e->code;
         if (inc->depth >= t)
             return kt_yml_fail(y, v, e, "%s.depth: expected less than the local thickness (%.3f mm "
@@ -322,12 +324,12 @@ static int parse_deform(kt_yml *y, const yaml_node_t *n, int i, kt_deform *d, kt
     if (kt_yml_get(y, n, "displacement")) {
         d->kind = KT_DEFORM_FIX;
         snprintf(w, sizeof w, "%s.displacement", what);
-        if (vec3(y, val, w, KT_UNIT_LENGTH, d->v, e) || parse_components(y, n, what, &d->mask, e))
+        if (vec3(y, val, w, KT_UNIT_LENGTH, 1e3, d->v, e) || parse_components(y, n, what, &d->mask, e))
             return e->code;
     } else {
         d->kind = KT_DEFORM_FORCE;
         snprintf(w, sizeof w, "%s.force", what);
-        if (vec3(y, val, w, KT_UNIT_FORCE, d->v, e)) return e->code;
+        if (vec3(y, val, w, KT_UNIT_FORCE, 10, d->v, e)) return e->code;
         if (kt_yml_get(y, n, "components"))
             return kt_yml_fail(y, kt_yml_get(y, n, "components"), e,
                                "%s.components: expected only with a displacement", what);
@@ -343,7 +345,7 @@ static int parse_deform(kt_yml *y, const yaml_node_t *n, int i, kt_deform *d, kt
         return e->code;
     yaml_node_t *o = kt_yml_get(y, n, "order");
     snprintf(w, sizeof w, "%s.order", what);
-    if (o && vec3(y, o, w, KT_UNIT_NONE, d->order, e)) return e->code;
+    if (o && vec3(y, o, w, KT_UNIT_NONE, 1e6, d->order, e)) return e->code;
     return KT_OK;
 }
 
@@ -369,7 +371,7 @@ static int parse_planar(kt_yml *y, const yaml_node_t *n, kt_plan *p, kt_err *e)
     yaml_node_t *nm = pt ? kt_yml_require(y, n, "normal", what, e) : NULL;
     yaml_node_t *ad = nm ? kt_yml_require(y, n, "advance", what, e) : NULL;
     if (!ad) return e->code;
-    if (vec3(y, pt, "planar_cut.point", KT_UNIT_LENGTH, pl->point, e) ||
+    if (vec3(y, pt, "planar_cut.point", KT_UNIT_LENGTH, 1e6, pl->point, e) ||
         unit_vec3(y, nm, "planar_cut.normal", pl->normal, e) ||
         unit_vec3(y, ad, "planar_cut.advance", pl->advance, e))
         return e->code;
@@ -385,9 +387,9 @@ static int parse_planar(kt_yml *y, const yaml_node_t *n, kt_plan *p, kt_err *e)
                            "along its normal");
     for (int k = 0; k < 3; k++) pl->advance[k] /= sqrt(len);
     pl->nodes_per_step = p->prog.nodes_per_step;
-    if (kt_yml_key_quantity(y, n, what, "length", KT_UNIT_LENGTH, KT_YML_POSITIVE, &pl->length, e) ||
+    if (kt_yml_key_quantity(y, n, what, "length", KT_UNIT_LENGTH, kt_scene_range(0, 1e6, 1, 0), &pl->length, e) ||
         kt_yml_key_int(y, n, what, "nodes_per_step", 1, 100000000, &pl->nodes_per_step, e) ||
-        kt_yml_key_quantity(y, n, what, "pull_force", KT_UNIT_FORCE, KT_YML_NONNEG, &pl->pull_force, e) ||
+        kt_yml_key_quantity(y, n, what, "pull_force", KT_UNIT_FORCE, kt_scene_range(0, 10, 0, 0), &pl->pull_force, e) ||
         kt_yml_key_string(y, n, what, "pull_surface", pl->pull_surface, sizeof pl->pull_surface, e))
         return e->code;
     pl->at_pull = mark_of(kt_yml_get(y, n, "pull_surface"));
@@ -412,7 +414,7 @@ static int parse_target(kt_yml *y, const yaml_node_t *n, kt_target *t, kt_err *e
     if (kt_yml_check_map(y, n, "target", TARGET_KEYS, e)) return e->code;
     if (!kt_yml_require(y, n, "magnitude", "target", e) || !kt_yml_require(y, n, "axis", "target", e))
         return e->code;
-    if (kt_yml_key_quantity(y, n, "target", "magnitude", KT_UNIT_POWER, KT_YML_NONNEG, &t->magnitude, e) ||
+    if (kt_yml_key_quantity(y, n, "target", "magnitude", KT_UNIT_POWER, kt_scene_range(0, 20, 0, 0), &t->magnitude, e) ||
         kt_yml_key_quantity(y, n, "target", "axis", KT_UNIT_ANGLE, (kt_yml_bounds){0, 180, 0, 1},
                             &t->axis, e))
         return e->code;

@@ -91,6 +91,18 @@ kt_yml_bounds kt_scene_range(double lo, double hi, int lo_open, int hi_open)
     return b;
 }
 
+/* The plausible ranges of the scene's physical values (keratome-scene(5), LIMITS), in the
+ * internal units mm and MPa. */
+#define KT_SCENE_MODULUS kt_scene_range(1e-6, 1e3, 0, 0)   /* 1 Pa to 1 GPa: gels to bone */
+#define KT_SCENE_LENGTH kt_scene_range(0, 1e6, 1, 0)       /* sizes: within the mesh's extent */
+#define KT_SCENE_COORD kt_scene_range(-1e6, 1e6, 0, 0)     /* positions: KT_MESH_MAX_COORD */
+#define KT_SCENE_DISPLACEMENT kt_scene_range(-1e3, 1e3, 0, 0)
+/* An intraocular pressure, 1 to 100 mmHg (physiological 10-21 mmHg; acute glaucoma reaches
+ * 60-80); any other model's pressure at most 1 GPa either way. */
+#define KT_SCENE_IOP kt_scene_range(1 * KT_MMHG, 100 * KT_MMHG, 0, 0)
+#define KT_SCENE_PRESSURE kt_scene_range(-1e3, 1e3, 0, 0)
+#define KT_MMHG 133.322387415e-6
+
 /* ---- box and CGAL models ---------------------------------------------------------------- */
 
 static const char *const BOX_KEYS[] = {"nodes", "size", "fixed", NULL};
@@ -114,7 +126,7 @@ static int parse_box(kt_yml *y, const yaml_node_t *n, kt_box *box, kt_err *e)
         for (int i = 0; i < 3; i++) {
             char f[32];
             snprintf(f, sizeof f, "box.size[%d]", i);
-            if (kt_yml_quantity(y, kt_yml_seq_item(y, size, i), f, KT_UNIT_LENGTH, KT_YML_POSITIVE,
+            if (kt_yml_quantity(y, kt_yml_seq_item(y, size, i), f, KT_UNIT_LENGTH, KT_SCENE_LENGTH,
                                 &box->len[i], e))
                 return e->code;
         }
@@ -142,10 +154,10 @@ static int parse_cgal(kt_yml *y, const yaml_node_t *n, const char *what, const c
     FILE *probe = fopen(g->path, "rb");
     if (!probe) return kt_yml_fail(y, file, e, "%s: expected an existing, readable file, '%s' cannot be opened", f, g->path);
     fclose(probe);
-    if (kt_yml_key_quantity(y, n, what, "unit", KT_UNIT_LENGTH, KT_YML_POSITIVE, &g->unit, e) ||
-        kt_yml_key_quantity(y, n, what, "facet_size", KT_UNIT_LENGTH, KT_YML_POSITIVE, &g->facet_size, e) ||
-        kt_yml_key_quantity(y, n, what, "facet_distance", KT_UNIT_LENGTH, KT_YML_POSITIVE, &g->facet_distance, e) ||
-        kt_yml_key_quantity(y, n, what, "cell_size", KT_UNIT_LENGTH, KT_YML_POSITIVE, &g->cell_size, e) ||
+    if (kt_yml_key_quantity(y, n, what, "unit", KT_UNIT_LENGTH, kt_scene_range(1e-6, 1e6, 0, 0), &g->unit, e) ||
+        kt_yml_key_quantity(y, n, what, "facet_size", KT_UNIT_LENGTH, KT_SCENE_LENGTH, &g->facet_size, e) ||
+        kt_yml_key_quantity(y, n, what, "facet_distance", KT_UNIT_LENGTH, KT_SCENE_LENGTH, &g->facet_distance, e) ||
+        kt_yml_key_quantity(y, n, what, "cell_size", KT_UNIT_LENGTH, KT_SCENE_LENGTH, &g->cell_size, e) ||
         kt_yml_key_int(y, n, what, "target_nodes", 0, 10000000, &g->target_nodes, e))
         return e->code;
     const char *need[] = {"facet_size", "facet_distance", "cell_size"};
@@ -225,12 +237,12 @@ static int parse_fibre_mat(kt_yml *y, const yaml_node_t *v, const char *what, kt
                    !kt_yml_get(y, v, "nu")))
         return kt_yml_fail(y, v, e, "%s: expected E_inplane, G_transverse and nu (no default for this region)", what);
     double E1 = r->E1;
-    if (kt_yml_key_quantity(y, v, what, "E_inplane", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &E1, e))
+    if (kt_yml_key_quantity(y, v, what, "E_inplane", KT_UNIT_PRESSURE, KT_SCENE_MODULUS, &E1, e))
         return e->code;
     if (kt_yml_get(y, v, "E_inplane")) r->E2 = E1; /* transversely isotropic unless E_inplane_2 */
     r->E1 = E1;
-    if (kt_yml_key_quantity(y, v, what, "E_inplane_2", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &r->E2, e) ||
-        kt_yml_key_quantity(y, v, what, "G_transverse", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &r->Gt, e) ||
+    if (kt_yml_key_quantity(y, v, what, "E_inplane_2", KT_UNIT_PRESSURE, KT_SCENE_MODULUS, &r->E2, e) ||
+        kt_yml_key_quantity(y, v, what, "G_transverse", KT_UNIT_PRESSURE, KT_SCENE_MODULUS, &r->Gt, e) ||
         kt_yml_key_number(y, v, what, "nu", kt_scene_range(-1, 0.5, 1, 1), &r->nu, e))
         return e->code;
     return KT_OK;
@@ -274,7 +286,7 @@ static int parse_materials(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err 
         yaml_node_t *E = kt_yml_get(y, v, "E"), *nu = kt_yml_get(y, v, "nu");
         if ((!r->E && !E) || (!r->nu && !nu))
             return kt_yml_fail(y, v, e, "%s: expected both 'E' and 'nu' (no default for this region)", what);
-        if (kt_yml_key_quantity(y, v, what, "E", KT_UNIT_PRESSURE, KT_YML_POSITIVE, &r->E, e) ||
+        if (kt_yml_key_quantity(y, v, what, "E", KT_UNIT_PRESSURE, KT_SCENE_MODULUS, &r->E, e) ||
             kt_yml_key_number(y, v, what, "nu", kt_scene_range(-1, 0.5, 1, 1), &r->nu, e))
             return e->code;
     }
@@ -305,7 +317,8 @@ static const char *const PRESSURE_KEYS[] = {"surface", "value", NULL};
 static const char *const LOAD_KEYS[] = {"pressure", "reference", "reference_tolerance", NULL};
 static const char *const REFERENCES[] = {"loaded", "unloaded", "prestressed", NULL};
 
-static int parse_pressure(kt_yml *y, const yaml_node_t *n, const char *what, kt_pressure *p, kt_err *e)
+static int parse_pressure(kt_yml *y, const yaml_node_t *n, const char *what, int eye,
+                          kt_pressure *p, kt_err *e)
 {
     if (kt_yml_check_map(y, n, what, PRESSURE_KEYS, e)) return e->code;
     char f[96];
@@ -313,7 +326,8 @@ static int parse_pressure(kt_yml *y, const yaml_node_t *n, const char *what, kt_
     yaml_node_t *surf = kt_yml_require(y, n, "surface", what, e);
     if (!surf || kt_scene_name_field(y, surf, f, p->surface, e)) return e->code;
     if (!kt_yml_require(y, n, "value", what, e)) return e->code;
-    return kt_yml_key_quantity(y, n, what, "value", KT_UNIT_PRESSURE, KT_YML_ANY, &p->p, e);
+    return kt_yml_key_quantity(y, n, what, "value", KT_UNIT_PRESSURE,
+                               eye ? KT_SCENE_IOP : KT_SCENE_PRESSURE, &p->p, e);
 }
 
 static int parse_loads(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *e)
@@ -329,13 +343,14 @@ static int parse_loads(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *e)
     if (!p) return KT_OK;
     if (p->type == YAML_MAPPING_NODE) {
         s->npressure = 1;
-        return parse_pressure(y, p, "loads.pressure", &s->pressure[0], e);
+        return parse_pressure(y, p, "loads.pressure", s->model == KT_MODEL_EYE, &s->pressure[0], e);
     }
     if (kt_yml_check_seq(y, p, "loads.pressure", 0, KT_SCENE_MAX, e)) return e->code;
     for (int i = 0; i < kt_yml_seq_len(p); i++) {
         char what[48];
         snprintf(what, sizeof what, "loads.pressure[%d]", i);
-        if (parse_pressure(y, kt_yml_seq_item(y, p, i), what, &s->pressure[i], e)) return e->code;
+        if (parse_pressure(y, kt_yml_seq_item(y, p, i), what, s->model == KT_MODEL_EYE, &s->pressure[i], e))
+            return e->code;
         s->npressure = i + 1;
     }
     return KT_OK;
@@ -364,7 +379,7 @@ static int parse_below(kt_yml *y, const yaml_node_t *n, const char *what, kt_fix
     if (!kt_yml_require(y, n, "axis", what, e) || !kt_yml_require(y, n, "value", what, e))
         return e->code;
     if (kt_yml_key_choice(y, n, what, "axis", AXES, &f->below_axis, e)) return e->code;
-    return kt_yml_key_quantity(y, n, what, "value", KT_UNIT_LENGTH, KT_YML_ANY, &f->below_value, e);
+    return kt_yml_key_quantity(y, n, what, "value", KT_UNIT_LENGTH, KT_SCENE_COORD, &f->below_value, e);
 }
 
 static int parse_fix(kt_yml *y, const yaml_node_t *n, const char *what, kt_fixation *f, kt_err *e)
@@ -388,7 +403,7 @@ static int parse_fix(kt_yml *y, const yaml_node_t *n, const char *what, kt_fixat
         if (kt_yml_check_seq(y, v, fld, 3, 3, e)) return e->code;
         for (int c = 0; c < 3; c++) {
             snprintf(fld, sizeof fld, "%s.value[%d]", what, c);
-            if (kt_yml_quantity(y, kt_yml_seq_item(y, v, c), fld, KT_UNIT_LENGTH, KT_YML_ANY, &f->value[c], e))
+            if (kt_yml_quantity(y, kt_yml_seq_item(y, v, c), fld, KT_UNIT_LENGTH, KT_SCENE_DISPLACEMENT, &f->value[c], e))
                 return e->code;
         }
     }

@@ -45,12 +45,12 @@ static int parse_ring(kt_yml *y, const yaml_node_t *n, int i, kt_ring *r, kt_err
     snprintf(f, sizeof f, "%s.name", what);
     if (v && kt_scene_name_field(y, v, f, r->name, e)) return e->code;
     if (!kt_yml_require(y, n, "diameter", what, e)) return e->code;
-    if (kt_yml_key_quantity(y, n, what, "diameter", KT_UNIT_LENGTH, KT_YML_POSITIVE, &r->diameter, e))
+    if (kt_yml_key_quantity(y, n, what, "diameter", KT_UNIT_LENGTH, kt_scene_range(0, 30, 1, 0), &r->diameter, e))
         return e->code;
     yaml_node_t *d = kt_yml_get(y, n, "depth"), *df = kt_yml_get(y, n, "depth_fraction");
     if (!d == !df)
         return kt_yml_fail(y, d ? d : n, e, "%s: expected exactly one of 'depth' or 'depth_fraction'", what);
-    if (kt_yml_key_quantity(y, n, what, "depth", KT_UNIT_LENGTH, KT_YML_POSITIVE, &r->depth, e))
+    if (kt_yml_key_quantity(y, n, what, "depth", KT_UNIT_LENGTH, kt_scene_range(0, 5, 1, 0), &r->depth, e))
         return e->code;
     return kt_yml_key_number(y, n, what, "depth_fraction", kt_scene_range(0, 1, 1, 1), &r->depth_fraction, e);
 }
@@ -180,7 +180,7 @@ int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
         kt_yml_key_quantity(y, n, w, "sclera_thickness", KT_UNIT_LENGTH, thick, &eye->sclera_thickness, e) ||
         kt_yml_key_quantity(y, n, w, "globe_radius", KT_UNIT_LENGTH, radius, &eye->globe_radius, e) ||
         kt_yml_key_quantity(y, n, w, "extent", KT_UNIT_ANGLE, kt_scene_range(0, 180, 1, 0), &eye->extent, e) ||
-        kt_yml_key_quantity(y, n, w, "optical_zone", KT_UNIT_LENGTH, KT_YML_POSITIVE, &eye->optical_zone, e))
+        kt_yml_key_quantity(y, n, w, "optical_zone", KT_UNIT_LENGTH, kt_scene_range(0, 30, 1, 0), &eye->optical_zone, e))
         return e->code;
     yaml_node_t *fib = kt_yml_get(y, n, "fibres");
     if (fib && (kt_yml_check_map(y, fib, "eye.fibres", FIBRE_KEYS, e) ||

@@ -26,7 +26,7 @@ static int open_text(kt_cursor *c, const char *name, const void *b, size_t n, ch
 {
     snprintf(path, 128, "%s/%s", dir, name);
     write_bytes(path, b, n);
-    return kt_cursor_open(c, path, e);
+    return kt_cursor_open(c, path, "", SIZE_MAX, e);
 }
 
 static int tok_is(kt_cursor *c, const char *want)
@@ -43,7 +43,7 @@ static void test_missing(void)
     kt_err e = {0};
     char path[128];
     snprintf(path, sizeof path, "%s/no-such-file.msh", dir);
-    CHECK(kt_cursor_open(&c, path, &e) == KT_EINPUT, "rc %d", e.code);
+    CHECK(kt_cursor_open(&c, path, "", SIZE_MAX, &e) == KT_EINPUT, "rc %d", e.code);
     CHECK(strncmp(e.msg, path, strlen(path)) == 0 && strstr(e.msg, "cannot open"), "'%s'", e.msg);
     CHECK(c.b == NULL, "a failed open holds no buffer");
 }
@@ -176,6 +176,38 @@ static void test_fits(void)
     kt_cursor_close(&c);
 }
 
+/* Bounded while reading (issue 26): a file not starting with the magic is read no further than
+ * its first bytes; a larger file than the limit is refused; a directory says so; a UTF-8
+ * byte-order mark is skipped. */
+static void test_bounds(void)
+{
+    kt_cursor c;
+    char path[128];
+    kt_err e = {0};
+    CHECK(kt_cursor_open(&c, "/dev/zero", "$MeshFormat", (size_t)1 << 32, &e) == KT_OK, "%s", e.msg);
+    CHECK(c.n > 0 && c.n <= (1 << 17), "/dev/zero: %zu bytes read", c.n);
+    kt_cursor_close(&c);
+
+    static char big[200000];
+    for (size_t i = 0; i < sizeof big; i += 2) big[i] = 'y', big[i + 1] = '\n';
+    snprintf(path, sizeof path, "%s/yes.msh", dir);
+    write_bytes(path, big, sizeof big);
+    CHECK(kt_cursor_open(&c, path, "$MeshFormat", (size_t)1 << 32, &e) == KT_OK, "%s", e.msg);
+    CHECK(c.n < sizeof big, "a wrong start: %zu of %zu bytes read", c.n, sizeof big);
+    kt_cursor_close(&c);
+    kt_err e2 = {0};
+    CHECK(kt_cursor_open(&c, path, "", 1000, &e2) == KT_EINPUT && strstr(e2.msg, "at most 1000 bytes"),
+          "'%s'", e2.msg);
+    kt_err e3 = {0};
+    CHECK(kt_cursor_open(&c, dir, "", 1000, &e3) == KT_EINPUT && strstr(e3.msg, "is a directory"),
+          "'%s'", e3.msg);
+    kt_err e4 = {0};
+    const char bom[] = "\xef\xbb\xbf  $MeshFormat 4.1";
+    CHECK(open_text(&c, "bom.msh", bom, sizeof bom - 1, path, &e4) == KT_OK, "%s", e4.msg);
+    CHECK(tok_is(&c, "$MeshFormat"), "the byte-order mark is skipped");
+    kt_cursor_close(&c);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/kt-cursor-XXXXXX");
@@ -188,6 +220,7 @@ int main(void)
     test_nul_byte();
     test_binary();
     test_fits();
+    test_bounds();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);

@@ -3,6 +3,9 @@
  * overflow, the whole-string number parsers, and paths relative to a folder (run.yaml's). */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <limits.h>
 #include <math.h>
 #include <stdint.h>
@@ -197,6 +200,108 @@ static void test_path_relative(void)
     CHECK(strcmp(out, "-") == 0, "'-' became '%s'", out);
 }
 
+/* Output targets that are not plain files (issue 26): a FIFO is written to, not replaced; a
+ * directory is refused before anything is made; a symbolic link stays a link. */
+static void test_out_targets(void)
+{
+    char sub[128], path[192], buf[256];
+    snprintf(sub, sizeof sub, "%s/targets", dir);
+    kt_err e = {0};
+    CHECK(kt_mkdir_p(sub, &e) == 0, "%s", e.msg);
+
+    snprintf(path, sizeof path, "%s/fifo", sub);
+    CHECK(mkfifo(path, 0600) == 0, "mkfifo");
+    int rd = open(path, O_RDONLY | O_NONBLOCK); /* a reader, so that the writer's open returns */
+    kt_out o;
+    CHECK(kt_out_open(&o, path, &e) == 0 && o.direct, "FIFO: %s", e.msg);
+    if (o.f) {
+        fputs("through the pipe\n", o.f);
+        CHECK(kt_out_commit(&o, &e) == 0, "%s", e.msg);
+    }
+    ssize_t n = read(rd, buf, sizeof buf - 1);
+    buf[n > 0 ? n : 0] = '\0';
+    close(rd);
+    struct stat st;
+    CHECK(strcmp(buf, "through the pipe\n") == 0, "read from the FIFO: '%s'", buf);
+    CHECK(lstat(path, &st) == 0 && S_ISFIFO(st.st_mode), "the FIFO is still a FIFO");
+    CHECK(count_entries(sub) == 1, "no temporary beside the FIFO: %d entries", count_entries(sub));
+
+    kt_err e2 = {0};
+    CHECK(kt_out_check(sub, &e2) == KT_EINPUT && strstr(e2.msg, "is a directory"), "'%s'", e2.msg);
+    kt_err e3 = {0};
+    CHECK(kt_out_open(&o, sub, &e3) == KT_EINPUT && strstr(e3.msg, "is a directory"), "'%s'", e3.msg);
+    CHECK(count_entries(dir) >= 1 && o.f == NULL, "a refused directory holds nothing");
+
+    char target[192], link[192];
+    snprintf(target, sizeof target, "%s/real.txt", sub);
+    snprintf(link, sizeof link, "%s/link.txt", sub);
+    FILE *old = fopen(target, "w");
+    if (old) fclose(old);
+    CHECK(symlink("real.txt", link) == 0, "symlink");
+    CHECK(kt_out_open(&o, link, &e) == 0, "%s", e.msg);
+    fputs("via link\n", o.f);
+    CHECK(kt_out_commit(&o, &e) == 0, "%s", e.msg);
+    CHECK(lstat(link, &st) == 0 && S_ISLNK(st.st_mode), "the link is still a link");
+    CHECK(slurp(target, buf, sizeof buf) == 9 && strcmp(buf, "via link\n") == 0, "target '%s'", buf);
+}
+
+/* Temporaries of dead processes of this host are removed when the same target is opened;
+ * a live process's, another target's and another host's are kept. */
+static void test_stale_temporaries(void)
+{
+    char sub[128], path[192], host[65] = "", f[4][320];
+    snprintf(sub, sizeof sub, "%s/stale", dir);
+    kt_err e = {0};
+    CHECK(kt_mkdir_p(sub, &e) == 0, "%s", e.msg);
+    snprintf(path, sizeof path, "%s/out.msh", sub);
+    gethostname(host, sizeof host - 1);
+    for (char *h = host; *h; h++)
+        if (*h == '/' || *h == '.') *h = '_';
+    pid_t dead = fork();
+    if (dead == 0) _exit(0);
+    waitpid(dead, NULL, 0);
+    snprintf(f[0], sizeof f[0], "%s/out.msh.tmp.%s.%ld.AbC123", sub, host, (long)dead);
+    snprintf(f[1], sizeof f[1], "%s/out.msh.tmp.%s.%ld.AbC123", sub, host, (long)getppid());
+    snprintf(f[2], sizeof f[2], "%s/other.msh.tmp.%s.%ld.AbC123", sub, host, (long)dead);
+    snprintf(f[3], sizeof f[3], "%s/out.msh.tmp.elsewhere.%ld.AbC123", sub, (long)dead);
+    for (int i = 0; i < 4; i++) {
+        FILE *t = fopen(f[i], "w");
+        if (t) fclose(t);
+    }
+    kt_out o;
+    CHECK(kt_out_open(&o, path, &e) == 0, "%s", e.msg);
+    CHECK(strstr(o.tmp, ".tmp.") && strstr(o.tmp, host), "temporary '%s' names the host", o.tmp);
+    kt_out_abort(&o);
+    struct stat st;
+    CHECK(stat(f[0], &st) != 0, "a dead process's temporary is removed");
+    CHECK(stat(f[1], &st) == 0, "a live process's temporary is kept");
+    CHECK(stat(f[2], &st) == 0, "another target's temporary is kept");
+    CHECK(stat(f[3], &st) == 0, "another host's temporary is kept");
+}
+
+/* Control characters in a message are escaped; bounded line reads. */
+static void test_escape_and_lines(void)
+{
+    kt_err e = {0};
+    kt_fail(&e, KT_EINPUT, "found '%s'", "\x1b]0;x\x07 \xc2\x9b ok \xc2\xb5m");
+    CHECK(strcmp(e.msg, "found '\\x1b]0;x\\x07 \\u009b ok \xc2\xb5m'") == 0, "'%s'", e.msg);
+    char path[192];
+    snprintf(path, sizeof path, "%s/lines.txt", dir);
+    FILE *f = fopen(path, "wb");
+    fwrite("ab\nlonger line\nx\0y\n", 1, 19, f);
+    fclose(f);
+    f = fopen(path, "rb");
+    char *buf = NULL;
+    size_t cap = 0;
+    CHECK(kt_line_read(f, &buf, &cap, 8, &e) == 3 && strcmp(buf, "ab\n") == 0, "first line");
+    CHECK(kt_line_read(f, &buf, &cap, 8, &e) == -3, "a line longer than the limit");
+    fclose(f);
+    f = fopen("/dev/zero", "rb");
+    CHECK(kt_line_read(f, &buf, &cap, 1 << 20, &e) == -2, "/dev/zero: a NUL byte, at once");
+    fclose(f);
+    free(buf);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/kt-util-XXXXXX");
@@ -208,6 +313,9 @@ int main(void)
     test_errors_and_alloc();
     test_parse();
     test_path_relative();
+    test_out_targets();
+    test_stale_temporaries();
+    test_escape_and_lines();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
