@@ -18,7 +18,7 @@ static const char usage[] =
     "      --version       the version\n"
     "Exit status: 0 success, 1 run-time failure, 2 bad usage or input.\n";
 
-int main(int argc, char **argv)
+static int tool_main(int argc, char **argv)
 {
     enum { O_BASE = 256, O_FAST, O_STEP, O_VERSION };
     static const struct option lo[] = {{"output", required_argument, 0, 'o'}, {"base", required_argument, 0, O_BASE},
@@ -34,14 +34,14 @@ int main(int argc, char **argv)
         case O_BASE: o.base = optarg; break;
         case O_FAST: o.fast = 1; break;
         case O_STEP:
-            if (kt_parse_double(optarg, &o.step) || !(o.step > 0 && o.step <= 90)) {
+            if (kt_parse_number(optarg, &o.step) || !(o.step > 0 && o.step <= 90)) {
                 fprintf(stderr, "lri-plan: --step %s: expected an angle in (0, 90] deg\n", optarg);
                 return KT_EINPUT;
             }
             break;
         case 'q': o.quiet = 1; break;
-        case 'h': fputs(usage, stdout); return 0;
-        case O_VERSION: puts("lri-plan (keratome) " KT_VERSION); return 0;
+        case 'h': fputs(usage, stdout); return kt_stdout_done("lri-plan");
+        case O_VERSION: puts("lri-plan (keratome) " KT_VERSION); return kt_stdout_done("lri-plan");
         default: return KT_EINPUT; /* getopt named the option on stderr */
         }
     }
@@ -56,6 +56,15 @@ int main(int argc, char **argv)
     o.patient = argv[optind];
     kt_err e = {0};
     int rc = kt_lriplan_run(&o, stdout, &e);
-    if (rc != KT_OK) fprintf(stderr, "lri-plan: %s\n", e.msg);
-    return rc;
+    if (rc != KT_OK) {
+        fprintf(stderr, "lri-plan: %s\n", e.msg);
+        return rc;
+    }
+    return kt_stdout_done("lri-plan");
+}
+
+int main(int argc, char **argv)
+{
+    kt_tool_start();
+    kt_exit(tool_main(argc, argv));
 }

@@ -154,7 +154,7 @@ int kt_pentacam_read(const char *path, int kind, kt_pentacam_map *m, kt_err *e)
 {
     memset(m, 0, sizeof *m);
     kt_cursor c;
-    if (kt_cursor_open(&c, path, e)) return e->code;
+    if (kt_cursor_open(&c, path, "", KT_PENTACAM_MAX_BYTES, e)) return e->code; /* no magic */
     reader r = {c.path, (const char *)c.b, c.n, 0, 1, 0, e};
     size_t *start = kt_calloc(MAXF, sizeof(size_t), e), next = 0;
     int *len = kt_calloc(MAXF, sizeof(int), e);

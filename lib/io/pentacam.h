@@ -18,6 +18,7 @@
 #define KT_PENTACAM_STEP 0.1    /* mm */
 #define KT_PENTACAM_HALF 7.0    /* mm: the grid spans -7 ... 7 mm */
 #define KT_PENTACAM_HEADER_MAX 64 /* header lines before the x coordinate row */
+#define KT_PENTACAM_MAX_BYTES (16u << 20) /* a map of 141 x 141 numbers is about 0.2 MB */
 
 enum { KT_PENTACAM_ELEVATION = 0, KT_PENTACAM_PACHYMETRY = 1 };
 
