@@ -29,17 +29,17 @@ ends() {
 }
 
 # a 21 x 21 x 41 brick (18081 nodes) about fits in 250 MB: it must end (it hung with two threads)
-ends "mesh-prep brick-20 in 250 MB" 250000 "0 1" "$B/mesh-prep" -q plans/brick-20.yaml -o "$tmp/brick.msh"
+ends "mesh-prep brick-20 in 250 MB" 250000 "0 1" "$B/mesh-prep" -q plans/bench/brick-20.yaml -o "$tmp/brick.msh"
 # a 41 x 41 x 61 brick does not: CHOLMOD's analysis fails, and the tool must say so and end
-sed 's/nodes: \[21, 21, 41\]/nodes: [41, 41, 61]/' plans/brick-20.yaml >"$tmp/big.yaml"
+sed 's/nodes: \[21, 21, 41\]/nodes: [41, 41, 61]/' plans/bench/brick-20.yaml >"$tmp/big.yaml"
 ends "mesh-prep of a larger brick in 250 MB" 250000 "1" "$B/mesh-prep" -q "$tmp/big.yaml" -o "$tmp/big.msh"
 grep -q "CHOLMOD\|out of memory" "$tmp/stderr" || { echo "FAIL: no CHOLMOD or memory message"; fails=$((fails + 1)); }
 [ ! -e "$tmp/big.msh" ] || { echo "FAIL: a failed run left its output"; fails=$((fails + 1)); }
 
 # augsolve on the brick's cut: finishes, or fails with a message, in limits around its need
-"$B/cutplan" -q plans/cut-brick-20.yaml "$tmp/brick.msh" -o "$tmp/brick.edits" 2>/dev/null ||
-    OPENBLAS_NUM_THREADS=1 "$B/mesh-prep" -q plans/brick-20.yaml -o "$tmp/brick.msh" >/dev/null
-"$B/cutplan" -q plans/cut-brick-20.yaml "$tmp/brick.msh" -o "$tmp/brick.edits" || { echo "FAIL cutplan"; exit 1; }
+"$B/cutplan" -q plans/bench/cut-brick-20.yaml "$tmp/brick.msh" -o "$tmp/brick.edits" 2>/dev/null ||
+    OPENBLAS_NUM_THREADS=1 "$B/mesh-prep" -q plans/bench/brick-20.yaml -o "$tmp/brick.msh" >/dev/null
+"$B/cutplan" -q plans/bench/cut-brick-20.yaml "$tmp/brick.msh" -o "$tmp/brick.edits" || { echo "FAIL cutplan"; exit 1; }
 for limit in 250000 400000; do
     ends "augsolve in $((limit / 1000)) MB" $limit "0 1" \
         "$B/augsolve" -q --no-vtk "$tmp/brick.msh" "$tmp/brick.edits" -o "$tmp/run-$limit"

@@ -17,8 +17,8 @@ trap 'rm -rf "$tmp"' EXIT
 fails=0
 fail() { echo "FAIL $*"; fails=$((fails + 1)); }
 
-"$B/mesh-prep" -q plans/beam-8.yaml -o "$tmp/beam.msh" >/dev/null || { fail "mesh-prep"; exit 1; }
-"$B/cutplan" -q plans/cut-beam-8.yaml "$tmp/beam.msh" -o "$tmp/beam.edits" || { fail "cutplan"; exit 1; }
+"$B/mesh-prep" -q plans/bench/beam-8.yaml -o "$tmp/beam.msh" >/dev/null || { fail "mesh-prep"; exit 1; }
+"$B/cutplan" -q plans/bench/cut-beam-8.yaml "$tmp/beam.msh" -o "$tmp/beam.edits" || { fail "cutplan"; exit 1; }
 
 # ---- item 5: devices and FIFOs are written through ----------------------------------------
 # through NAME TARGET CMD...: CMD exits 0 and TARGET is still a character device
@@ -31,18 +31,18 @@ through() {
     else fail "$name: $target is no longer a character device"; ls -l "$target"; fi
 }
 if mknod "$tmp/null" c 1 3 2>/dev/null; then
-    through "mesh-prep -o device" "$tmp/null" "$B/mesh-prep" -q plans/beam-8.yaml -o "$tmp/null"
-    through "cutplan -o device" "$tmp/null" "$B/cutplan" -q plans/cut-beam-8.yaml "$tmp/beam.msh" -o "$tmp/null"
+    through "mesh-prep -o device" "$tmp/null" "$B/mesh-prep" -q plans/bench/beam-8.yaml -o "$tmp/null"
+    through "cutplan -o device" "$tmp/null" "$B/cutplan" -q plans/bench/cut-beam-8.yaml "$tmp/beam.msh" -o "$tmp/null"
     through "cutplan --mesh-out device" "$tmp/null" \
-        "$B/cutplan" -q plans/cut-beam-8.yaml "$tmp/beam.msh" -o "$tmp/x.edits" --mesh-out "$tmp/null"
+        "$B/cutplan" -q plans/bench/cut-beam-8.yaml "$tmp/beam.msh" -o "$tmp/x.edits" --mesh-out "$tmp/null"
     # a failed cut must not remove the device it wrote the mesh to
-    sed 's/pull_surface: zmax/pull_surface: nosuch/' plans/cut-beam-8.yaml >"$tmp/badcut.yaml"
-    cp plans/beam-8.yaml "$tmp/"
+    sed 's/pull_surface: zmax/pull_surface: nosuch/' plans/bench/cut-beam-8.yaml >"$tmp/badcut.yaml"
+    cp plans/bench/beam-8.yaml "$tmp/"
     timeout 60 "$B/cutplan" -q "$tmp/badcut.yaml" "$tmp/beam.msh" -o "$tmp/y.edits" --mesh-out "$tmp/null" 2>/dev/null
     [ -c "$tmp/null" ] || fail "a refused cut removed its --mesh-out device"
     if [ $fails -eq 0 ]; then
-        through "mesh-prep -o /dev/null" /dev/null "$B/mesh-prep" -q plans/beam-8.yaml -o /dev/null
-        through "cutplan -o /dev/null" /dev/null "$B/cutplan" -q plans/cut-beam-8.yaml "$tmp/beam.msh" -o /dev/null
+        through "mesh-prep -o /dev/null" /dev/null "$B/mesh-prep" -q plans/bench/beam-8.yaml -o /dev/null
+        through "cutplan -o /dev/null" /dev/null "$B/cutplan" -q plans/bench/cut-beam-8.yaml "$tmp/beam.msh" -o /dev/null
     fi
 else
     echo "skip device nodes: mknod needs root"
@@ -52,7 +52,7 @@ mkfifo "$tmp/fifo"
 timeout 60 cat "$tmp/fifo" >"$tmp/fifo.msh" &
 reader=$!
 rc=0
-timeout 60 "$B/mesh-prep" -q plans/beam-8.yaml -o "$tmp/fifo" >/dev/null 2>"$tmp/stderr" || rc=$?
+timeout 60 "$B/mesh-prep" -q plans/bench/beam-8.yaml -o "$tmp/fifo" >/dev/null 2>"$tmp/stderr" || rc=$?
 [ -p "$tmp/fifo" ] || { rm -f "$tmp/fifo"; mkfifo "$tmp/fifo"; echo >"$tmp/fifo"; } # free the reader
 wait $reader
 if [ $rc -eq 0 ] && [ -p "$tmp/fifo" ] && cmp -s "$tmp/fifo.msh" "$tmp/beam.msh"; then
@@ -61,21 +61,21 @@ else fail "mesh-prep -o FIFO: exit $rc, $(ls -l "$tmp/fifo"), $(wc -c <"$tmp/fif
 # a symbolic link stays a link: the file it leads to is replaced
 ln -s beam-copy.msh "$tmp/link.msh"
 : >"$tmp/beam-copy.msh"
-"$B/mesh-prep" -q plans/beam-8.yaml -o "$tmp/link.msh" >/dev/null
+"$B/mesh-prep" -q plans/bench/beam-8.yaml -o "$tmp/link.msh" >/dev/null
 if [ -L "$tmp/link.msh" ] && cmp -s "$tmp/beam-copy.msh" "$tmp/beam.msh"; then echo "ok   output through a symbolic link"
 else fail "output through a symbolic link: $(ls -l "$tmp/link.msh")"; fi
 
 # ---- item 13: a directory as the output: exit 2 before meshing ----------------------------
 mkdir "$tmp/outdir.msh"
 rc=0
-timeout 60 "$B/mesh-prep" plans/beam-8.yaml -o "$tmp/outdir.msh" >"$tmp/stdout" 2>"$tmp/stderr" || rc=$?
+timeout 60 "$B/mesh-prep" plans/bench/beam-8.yaml -o "$tmp/outdir.msh" >"$tmp/stdout" 2>"$tmp/stderr" || rc=$?
 if [ $rc -eq 2 ] && grep -q "outdir.msh: cannot write the output file: is a directory" "$tmp/stderr" &&
     ! grep -q "beam-8\|nodes\|ordering" "$tmp/stderr" && [ ! -s "$tmp/stdout" ] &&
     [ -z "$(ls -A "$tmp" | grep '\.tmp\.')" ]; then
     echo "ok   mesh-prep -o DIRECTORY: $(cat "$tmp/stderr")"
 else fail "mesh-prep -o DIRECTORY: exit $rc"; cat "$tmp/stderr"; fi
 rc=0
-timeout 60 "$B/cutplan" -q plans/cut-beam-8.yaml "$tmp/beam.msh" -o "$tmp/outdir.msh" 2>"$tmp/stderr" || rc=$?
+timeout 60 "$B/cutplan" -q plans/bench/cut-beam-8.yaml "$tmp/beam.msh" -o "$tmp/outdir.msh" 2>"$tmp/stderr" || rc=$?
 [ $rc -eq 2 ] && grep -q "is a directory" "$tmp/stderr" && echo "ok   cutplan -o DIRECTORY" ||
     { fail "cutplan -o DIRECTORY: exit $rc"; cat "$tmp/stderr"; }
 
@@ -99,13 +99,13 @@ lost() {
 lost "curvature" "$B/curvature" -q --no-png --no-report "$tmp/run" -o "$tmp/curv1"
 lost "curvature --json" "$B/curvature" -q --json --no-png --no-report "$tmp/run" -o "$tmp/curv2"
 lost "lri-nomogram" "$B/lri-nomogram" --k-steep 44.5 --k-flat 43 --axis 90 --age 66 "$tmp/nomo.tsv"
-lost "mesh-prep summary" "$B/mesh-prep" plans/beam-8.yaml -o "$tmp/summary.msh"
-lost "mesh-prep -o -" "$B/mesh-prep" -q plans/beam-8.yaml -o -
-lost "cutplan -o -" "$B/cutplan" -q plans/cut-beam-8.yaml "$tmp/beam.msh" -o -
+lost "mesh-prep summary" "$B/mesh-prep" plans/bench/beam-8.yaml -o "$tmp/summary.msh"
+lost "mesh-prep -o -" "$B/mesh-prep" -q plans/bench/beam-8.yaml -o -
+lost "cutplan -o -" "$B/cutplan" -q plans/bench/cut-beam-8.yaml "$tmp/beam.msh" -o -
 lost "mesh-prep --help" "$B/mesh-prep" --help
 lost "augsolve --help" "$B/augsolve" --help
 # with stdout closed, no output file may take descriptor 1 and swallow what stdout was meant for
-"$B/mesh-prep" plans/beam-8.yaml -o "$tmp/closed.msh" >&- 2>/dev/null
+"$B/mesh-prep" plans/bench/beam-8.yaml -o "$tmp/closed.msh" >&- 2>/dev/null
 if [ -f "$tmp/closed.msh" ] && grep -q "nodes" "$tmp/closed.msh" 2>/dev/null &&
     ! grep -q '^\$MeshFormat' "$tmp/closed.msh"; then fail "the summary went into the mesh file"; fi
 
@@ -117,7 +117,7 @@ live="$tmp/clean.msh.tmp.$host.$$.XyZ789"
 other="$tmp/other.msh.tmp.$host.$dead.AbC123"
 elsewhere="$tmp/clean.msh.tmp.otherhost.$dead.AbC123"
 for f in "$stale" "$live" "$other" "$elsewhere"; do echo partial >"$f"; done
-"$B/mesh-prep" -q plans/beam-8.yaml -o "$tmp/clean.msh" >/dev/null
+"$B/mesh-prep" -q plans/bench/beam-8.yaml -o "$tmp/clean.msh" >/dev/null
 if [ ! -e "$stale" ] && [ -e "$live" ] && [ -e "$other" ] && [ -e "$elsewhere" ] && [ -s "$tmp/clean.msh" ]; then
     echo "ok   a dead run's temporary removed; a live one, another target's and another host's kept"
 else fail "temporaries: $(ls "$tmp" | grep '\.tmp\.' | tr '\n' ' ')"; fi

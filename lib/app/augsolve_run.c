@@ -18,7 +18,6 @@
 #include "aug.h"
 #include "solver.h"
 #include "bind.h"
-#include "blas.h"
 #include "msh.h"
 #include "physics.h"
 #include "runrec.h"
@@ -415,7 +414,6 @@ static int check_inputs(run *r, const kt_aug_run_opts *o, kt_err *e)
 
 int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
 {
-    kt_blas_pin(); /* same answer on any machine (blas.h) */
     kt_aug_run_opts o = *o_in;
     if (o.aug.ordering == KT_AUG_ORDER_DEFAULT)
         o.aug.ordering = o.aug.method == KT_AUG_PLANNED || o.aug.method == KT_AUG_AUGMENTED

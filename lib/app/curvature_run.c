@@ -12,7 +12,6 @@
 
 #include "curvature_run.h"
 
-#include "blas.h"
 #include "curv.h"
 #include "curv_report.h"
 #include "curv_total.h"
@@ -592,7 +591,6 @@ static void ctx_free(run_ctx *c)
 
 int kt_curv_run(const kt_curv_opts *o, FILE *out, kt_err *e)
 {
-    kt_blas_pin(); /* same answer on any machine (blas.h) */
     run_ctx *c = kt_calloc(1, sizeof(run_ctx), e);
     if (!c) return e->code;
     c->o = o;

@@ -10,7 +10,6 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "blas.h"
 #include "msh.h"
 
 /* The absolute path of an existing file ("-" and failures give the path as it is); one that
@@ -83,7 +82,6 @@ static int stream(const kt_cutplan_opts *o, const kt_plan *p, kt_incise *c, cons
 
 int kt_cutplan_run(const kt_cutplan_opts *o, kt_err *e)
 {
-    kt_blas_pin(); /* same answer on any machine (blas.h) */
     double t0 = kt_now();
     kt_plan *p = kt_calloc(1, sizeof *p, e);
     kt_mesh m = {0};

@@ -6,7 +6,6 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "blas.h"
 #include "build.h"
 #include "eye.h"
 #include "bind.h"
@@ -267,7 +266,6 @@ static int check_budget(const kt_prep_opts *o, const kt_scene *s, int order, kt_
 
 int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e)
 {
-    kt_blas_pin(); /* same answer on any machine (blas.h) */
     kt_scene *s = kt_calloc(1, sizeof *s, e);
     if (!s) return e->code;
     run_info r;

@@ -1,6 +1,7 @@
 /* util.c: errors, allocation, timers, progress and atomic output. */
 #define _GNU_SOURCE
 #include "util.h"
+#include "blas.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -11,7 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <dirent.h>
-#include <dlfcn.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -313,27 +313,6 @@ void kt_out_abort(kt_out *o)
     memset(o, 0, sizeof *o);
 }
 
-/* Under a limit on address space or data (ulimit -v, -d), one BLAS thread: a worker thread of
- * OpenBLAS whose buffer allocation fails retries it forever, and the process hangs in the BLAS
- * call or, at exit, in OpenBLAS's destructor joining that thread. Looked up at run time, so
- * that another BLAS needs nothing. */
-static void blas_guard(void)
-{
-    struct rlimit as, data;
-    if (getrlimit(RLIMIT_AS, &as) != 0 || getrlimit(RLIMIT_DATA, &data) != 0) return;
-    if (as.rlim_cur == RLIM_INFINITY && data.rlim_cur == RLIM_INFINITY) return;
-    static const char *const setters[] = {"openblas_set_num_threads", "goto_set_num_threads"};
-    for (int i = 0; i < 2; i++) {
-        void *sym = dlsym(RTLD_DEFAULT, setters[i]);
-        void (*set)(int);
-        memcpy(&set, &sym, sizeof set);
-        if (sym) {
-            set(1);
-            return;
-        }
-    }
-}
-
 void kt_tool_start(void)
 {
     for (int fd = 0; fd <= 2; fd++) {
@@ -345,7 +324,7 @@ void kt_tool_start(void)
             close(g);
         }
     }
-    blas_guard();
+    kt_blas_pin(); /* the same answer on any machine, and no hang under ulimit -v (blas.h) */
 }
 
 void kt_exit(int code)

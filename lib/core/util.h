@@ -66,9 +66,8 @@ void kt_out_abort(kt_out *o);
 
 /* At a tool's start: a closed standard stream (0, 1, 2) gets a descriptor on which every
  * read or write fails, so that no file the tool opens takes its number and an output to a
- * closed stdout is an error, not a write into that file. Under a limit on address space or
- * data (ulimit -v, -d) BLAS runs one thread: OpenBLAS's worker threads retry a failed buffer
- * allocation forever, so that the process would hang instead of failing (exit 1). */
+ * closed stdout is an error, not a write into that file. Then the BLAS is pinned to one
+ * thread (kt_blas_pin, blas.h): the same answer on any machine, and no hang under ulimit -v. */
 void kt_tool_start(void);
 
 /* A tool's end, with exit status code: stdio flushed, then _exit, skipping the libraries'
