@@ -16,7 +16,6 @@
 #include "scene.h"
 
 #define NROW 32
-#define PI 3.14159265358979323846
 typedef struct row {
     char sym[32], text[32], unit[16];
     double v; /* in MPa, mm, s, Hz or none */
@@ -131,15 +130,15 @@ int main(void)
     double G = val(&man, "G_oce"), f = val(&man, "f_oce"), p = val(&man, "p");
     double R = val(&man, "R"), th = val(&man, "t"), td = val(&man, "tan_delta");
     double tw = val(&man, "t_w"), Gtor = val(&man, "G_tor");
-    double sm = p * R / (2 * th), a = 2 / PI * atan(td), fw = 1 / (2 * PI * tw);
+    double sm = p * R / (2 * th), a = 2 / KT_PI * atan(td), fw = 1 / (2 * KT_PI * tw);
     double Gw = (G - sm) * pow(fw / f, a);
     check_printed(&man, "sigma_m", sm);
     check_printed(&man, "alpha", a);
     check_printed(&man, "f_w", fw);
     check_printed(&man, "G_w", Gw);
-    check_printed(&man, "G_1h", (G - sm) * pow(1 / (2 * PI * 3600) / f, a));
-    check_printed(&man, "G_1w", (G - sm) * pow(1 / (2 * PI * 7 * 86400) / f, a));
-    check_printed(&man, "G_30d", (G - sm) * pow(1 / (2 * PI * 30 * 86400) / f, a));
+    check_printed(&man, "G_1h", (G - sm) * pow(1 / (2 * KT_PI * 3600) / f, a));
+    check_printed(&man, "G_1w", (G - sm) * pow(1 / (2 * KT_PI * 7 * 86400) / f, a));
+    check_printed(&man, "G_30d", (G - sm) * pow(1 / (2 * KT_PI * 30 * 86400) / f, a));
     check_printed(&man, "G_tor_w", Gtor * pow(fw / 1.0, a));
     CHECK(fabs(tw - 86400) < 1e-9, "t_w %g s: the text says 1 day", tw);
     /* docs/moduli.md: the same rows, printed alike */
