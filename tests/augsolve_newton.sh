@@ -11,7 +11,8 @@
 #     least: the gap grows with the load, as a geometric nonlinearity does), its NaN mask is
 #     planned's with --output anterior, and steps.tsv holds Newton iterations and a converged
 #     relative residual; run.yaml names the method;
-#   - --verify with --method newton exits 2 before anything is solved (no steps.tsv).
+#   - --verify with --method newton exits 2 before anything is solved (no steps.tsv), and so
+#     does --output with a set the mesh lacks.
 # Every check fails on NaN.
 set -uo pipefail
 B=${1:?build dir}
@@ -52,6 +53,11 @@ rc=$?
 if [ $rc = 2 ] && grep -q -- "--verify" "$T/err" && [ ! -e "$T/verify/steps.tsv" ]; then
     echo "ok   --method newton --verify exits 2: $(cat "$T/err")"
 else echo "FAIL --method newton --verify: exit $rc, $(cat "$T/err")"; fail=1; fi
+"$B/augsolve" "$T/eye.msh" "$T/lri.edits" -o "$T/noset" --method newton --output nosuchset -q 2> "$T/err"
+rc=$?
+if [ $rc = 2 ] && grep -q nosuchset "$T/err" && [ ! -e "$T/noset/steps.tsv" ]; then
+    echo "ok   --method newton --output nosuchset exits 2"
+else echo "FAIL --method newton --output nosuchset: exit $rc, $(cat "$T/err")"; fail=1; fi
 [ $fail = 0 ] || exit 1
 /usr/bin/python3 - "$T" <<'EOF' || fail=1
 import sys
