@@ -54,9 +54,11 @@ static int solve(newton *N, int k, kt_err *e)
     kt_newton_stats st;
     memset(&st, 0, sizeof st);
     if (kt_newton_plan(&N->mesh, &N->fp, N->plan->step, k, &o, &N->u, &st, e)) {
-        char msg[sizeof e->msg];
+        char msg[sizeof e->msg]; /* the step named in front (kt_fail keeps a first error) */
         snprintf(msg, sizeof msg, "%s", e->msg);
-        return kt_fail(e, e->code, "step %d: newton: %s", k, msg);
+        int code = e->code;
+        e->code = KT_OK;
+        return kt_fail(e, code, "step %d: %s", k, msg);
     }
     if (N->mesh.nn != N->plan->nn_at[k])
         return kt_fail(e, KT_ERUN, "step %d: newton: %d nodes after the cut, the plan has %d", k,
