@@ -48,7 +48,7 @@ last=$(grep -n '^dup ' "$T/lri.edits" | tail -1 | cut -d: -f1)
 sed "${last}s/^dup /dpu /" "$T/lri.edits" >"$T/typo.edits"
 check "typo on the last step's line $last" "typo.edits:$last:1: expected" "$T/r1" -- \
     "$B/augsolve" "$T/eye.msh" "$T/typo.edits" -o "$T/r1"
-for m in planned augmented refactor cg pcg-jacobi; do
+for m in planned augmented refactor cg pcg-jacobi newton; do
     check "--output nosuchset, --method $m" "output nosuchset" "$T/r2" -- \
         "$B/augsolve" "$T/eye.msh" "$T/lri.edits" -o "$T/r2" --method "$m" --output nosuchset
 done

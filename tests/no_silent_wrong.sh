@@ -60,7 +60,7 @@ no_result "header-only stream" "$T/hdr"
 
 # ---- 3. NaN must fail the accuracy checks; non-finite numbers are bad input
 sed 's/^force \([0-9]*\) \([^ ]*\) .*/force \1 0 1e308 0/' "$T/cut.edits" >"$T/big.edits"
-for m in planned augmented refactor cg pcg-jacobi; do
+for m in planned augmented refactor cg pcg-jacobi newton; do
     "$B/augsolve" -q "$T/beam.msh" "$T/big.edits" -o "$T/big-$m" --method $m >/dev/null 2>"$T/err"
     rc=$?
     if [ $rc = 1 ] || [ $rc = 2 ]; then ok "force 1e308, $m: exit $rc ($(head -c 120 "$T/err"))"

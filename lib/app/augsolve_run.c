@@ -16,6 +16,7 @@
 #include "augsolve_run.h"
 
 #include "aug.h"
+#include "newton.h"
 #include "solver.h"
 #include "bind.h"
 #include "msh.h"
@@ -238,7 +239,9 @@ static void write_row(run *r, const kt_aug_row *w)
     tsv_num(f, w->rel_residual, "%.3e");
     fputc('\t', f);
     tsv_num(f, w->verify_rel_diff, "%.3e");
-    fprintf(f, "\t%.0f\t", w->nnz_L);
+    fputc('\t', f);
+    tsv_num(f, w->nnz_L, "%.0f"); /* newton: NaN */
+    fputc('\t', f);
     tsv_num(f, w->t_verify, "%.1f");
     fputc('\n', f);
 }
@@ -292,8 +295,13 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
             r->mesh.nn);
     if (r->has_plan_hash) fprintf(out.f, "plan_hash: \"%016llx\"\n", r->plan_hash);
     static const char *const ORD[] = {"natural", "amd", "metis"};
-    fprintf(out.f, "tol: %g\nordering: %s\nfactor: %s\n", a->tol, ORD[a->ordering],
-            a->factor == KT_AUG_FACTOR_SIMPLICIAL ? "simplicial" : "supernodal");
+    kt_newton_opts nl;
+    kt_newton_defaults(&nl);
+    if (a->method == KT_AUG_NEWTON) /* its rtol; CHOLMOD orders its tangent itself */
+        fprintf(out.f, "tol: %g\nordering: cholmod\nfactor: supernodal\n", nl.rtol);
+    else
+        fprintf(out.f, "tol: %g\nordering: %s\nfactor: %s\n", a->tol, ORD[a->ordering],
+                a->factor == KT_AUG_FACTOR_SIMPLICIAL ? "simplicial" : "supernodal");
     if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
     if (kt_solver_fallback(r->sv)) yaml_str(out.f, "fallback", kt_solver_fallback(r->sv));
     if (o->steps) yaml_str(out.f, "written_steps", o->steps);
@@ -397,6 +405,10 @@ static int check_inputs(run *r, const kt_aug_run_opts *o, kt_err *e)
     if (o->aug.method == KT_AUG_AUGMENTED && o->aug.factor == KT_AUG_FACTOR_SIMPLICIAL)
         return kt_fail(e, KT_EINPUT, "--factor simplicial: the augmented method factors the "
                        "intact stiffness supernodally (its W columns are kept by supernode)");
+    if (o->aug.method == KT_AUG_NEWTON && o->aug.verify)
+        return kt_fail(e, KT_EINPUT, "--verify: --method newton is the geometrically nonlinear "
+                       "reference, not expected to equal a linear fresh factorization (compare "
+                       "it with a --method planned run instead)");
     if (kt_msh_read(o->mesh, &r->mesh, e) || open_edits(r, o->edits, o->mesh, e) ||
         bind_problem(r, o->scene ? o->scene : r->rd.h.scene, e))
         return e->code;

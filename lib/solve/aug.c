@@ -32,10 +32,11 @@ static int word(const char *s, const char *const *names, int n, int *v)
     return -1;
 }
 
-static const char *const METHODS[] = {NULL, "augmented", "refactor", "cg", "pcg-jacobi", "planned"};
+static const char *const METHODS[] = {NULL, "augmented", "refactor", "cg", "pcg-jacobi", "planned",
+                                      "newton"};
 
-int kt_aug_parse_method(const char *s, int *m) { return word(s, METHODS, 6, m); }
-const char *kt_aug_method_name(int m) { return m >= 1 && m <= 5 ? METHODS[m] : "?"; }
+int kt_aug_parse_method(const char *s, int *m) { return word(s, METHODS, 7, m); }
+const char *kt_aug_method_name(int m) { return m >= 1 && m <= 6 ? METHODS[m] : "?"; }
 
 
 int kt_aug_parse_ordering(const char *s, int *o)

@@ -25,7 +25,8 @@
 /* KT_AUG_PLANNED (augsolve's default, aug_plan.h) needs the whole stream first: it runs behind
  * the front door only (solver.h), as every method does in augsolve. kt_aug_create solves a
  * stream step by step with the other methods. */
-enum { KT_AUG_AUGMENTED = 1, KT_AUG_REFACTOR, KT_AUG_CG, KT_AUG_PCG_JACOBI, KT_AUG_PLANNED };
+enum { KT_AUG_AUGMENTED = 1, KT_AUG_REFACTOR, KT_AUG_CG, KT_AUG_PCG_JACOBI, KT_AUG_PLANNED,
+       KT_AUG_NEWTON /* the nonlinear reference (newton.h), behind the front door only */ };
 /* KT_AUG_ORDER_DEFAULT (augsolve): metis for the planned and augmented methods, natural (the
  * mesh's order) for the baselines; kt_aug_opts_default itself gives natural */
 enum { KT_AUG_ORDER_DEFAULT = -1, KT_AUG_ORDER_NATURAL = 0, KT_AUG_ORDER_AMD, KT_AUG_ORDER_METIS };

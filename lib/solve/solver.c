@@ -91,9 +91,14 @@ static int finish(kt_solver *sv, kt_err *e)
     return sv->o.verify ? verify(sv, e) : KT_OK;
 }
 
-/* The planned backend, or the stream method it falls back to. */
+/* The planned backend, or the stream method it falls back to; the nonlinear reference. */
 static int start(kt_solver *sv, const kt_solver_in *in, kt_err *e)
 {
+    if (sv->o.method == KT_AUG_NEWTON) {
+        sv->be = &kt_solver_newton;
+        char none[8]; /* it applies to every plan */
+        return sv->be->create(&sv->st, in, none, sizeof none, e);
+    }
     if (sv->o.method == KT_AUG_PLANNED) {
         sv->be = &kt_solver_planned;
         if (sv->be->create(&sv->st, in, sv->why, sizeof sv->why, e)) return e->code;

@@ -3,7 +3,8 @@
  * (set up and solve step 0, apply and solve the next step, a fresh reference, free: the way
  * Redis's ae.c puts epoll and kqueue behind aeApi*). The planned method is a backend
  * (solver_planned.c), and so are the stream methods, augmented, refactor, cg and pcg-jacobi
- * (solver_stream.c, over kt_aug). The front door ends every backend's step in one place:
+ * (solver_stream.c, over kt_aug), and so is the nonlinear reference, newton (solver_newton.c,
+ * over kt_newton_plan). The front door ends every backend's step in one place:
  *   output restriction: --output SET means the nodes of the surface or region SET of the
  *     current cut mesh (kt_mesh_group_nodes); the field holds NaN at every other node and the
  *     step has no reactions, whatever the method (a backend may compute less: the planned one
@@ -11,8 +12,9 @@
  *   verification (--verify): the step against a fresh METIS factorization of the current cut
  *     mesh, max |u - u_fresh| / max |u_fresh| over the set's DOFs (all without --output);
  *   the step's row of steps.tsv (kt_aug_row).
- * A new method (a nonlinear solve, say) is one more kt_solver_backend: it gets the problem,
- * the plan and each step's edits, and gives the step's displacement on the current mesh. */
+ * A new method is one more kt_solver_backend (as the nonlinear reference is): it gets the
+ * problem, the plan and each step's edits, and gives the step's displacement on the current
+ * mesh. */
 #ifndef KT_SOLVER_H
 #define KT_SOLVER_H
 
@@ -57,7 +59,7 @@ typedef struct kt_solver_backend {
     void (*free)(void *st);
 } kt_solver_backend;
 
-extern const kt_solver_backend kt_solver_planned, kt_solver_stream;
+extern const kt_solver_backend kt_solver_planned, kt_solver_stream, kt_solver_newton;
 
 typedef struct kt_solver_opts {
     kt_aug_opts aug;                 /* method, ordering, factor, tol, verify, output, quiet */

@@ -3,7 +3,8 @@
  * material on top), each method (planned, augmented, refactor, cg, pcg-jacobi) runs with
  * --verify against a fresh factorization at every step; with --output SET (a surface, then a
  * region) the field is NaN exactly off SET's nodes of the current mesh and equals the planned
- * method's full field on SET; an unknown set is KT_EINPUT for every method. */
+ * method's full field on SET; an unknown set is KT_EINPUT for every method. The nonlinear
+ * reference (newton) behind the same door: test_newton. */
 #include <stdio.h>
 
 #include "solver.h"
@@ -173,6 +174,100 @@ static void test_unknown_set(const scenario *s, const kt_edits_plan *p, const kt
     }
 }
 
+/* Every step of the plan through the front door with --method newton on problem q, output
+ * set out (""); gap[k] := max |u - planned| / max |planned| over the set (planned: full[k]);
+ * *masked: values off the mask (NaN expected) or NaN on it. */
+static int run_newton(const scenario *s, const kt_aug_problem *q, const kt_edits_plan *p,
+                      const kt_mesh *final, const char *out, double *const *full, double *gap,
+                      int *masked, kt_err *e)
+{
+    kt_solver_opts o = opts(KT_AUG_NEWTON, out);
+    o.aug.verify = 0;
+    kt_solver *sv = NULL;
+    *masked = 0;
+    if (kt_solver_create(&sv, q, p, final, &o, e)) return e->code;
+    for (int k = 0; k <= p->nsteps && !e->code; k++) {
+        int solved = 1;
+        if (k > 0 && kt_solver_step(sv, &solved, e)) break;
+        CHECK(solved && kt_solver_at(sv) == k, "newton: step %d not solved", k);
+        const kt_aug_row *w = kt_solver_row(sv);
+        CHECK(w->step == k && (k == 0 || w->iters >= 1) && w->rel_residual <= 1e-10,
+              "newton step %d: %d iterations, residual %g", k, w->iters, w->rel_residual);
+        unsigned char *on = out[0] ? set_on(s, p, k, out) : NULL;
+        const double *u = kt_solver_u(sv);
+        double d = 0, mx = 0;
+        for (int i = 0; i < 3 * kt_solver_mesh(sv)->nn; i++) {
+            if (on && !on[i / 3]) {
+                *masked += !isnan(u[i]);
+                continue;
+            }
+            *masked += isnan(u[i]);
+            d = kt_nanmax(d, fabs(u[i] - full[k][i]));
+            mx = fmax(mx, fabs(full[k][i]));
+        }
+        gap[k] = d / mx;
+        free(on);
+    }
+    kt_solver_free(sv);
+    return e->code;
+}
+
+/* --method newton behind the front door: with the moduli 1000 times stiffer (strains 1000
+ * times smaller) every step equals the planned method's to 1e-3 relative (the gap is first
+ * order in the load: about 2e-4 here); at the scenario's own load (strains of some percent,
+ * no prestress) it differs by 100 times that at least (about 0.2), with --output its mask is
+ * the set's; --verify is refused (KT_EINPUT: a linear fresh factorization is not its
+ * reference). */
+static void test_newton(const scenario *s, const kt_edits_plan *p, const kt_mesh *final)
+{
+    double gap[2][NSTEPS + 1];
+    for (int stiff = 0; stiff < 2; stiff++) {
+        kt_material mat[3];
+        for (int i = 0; i < s->mats.nmat && i < 3; i++) {
+            mat[i] = s->mats.mat[i];
+            mat[i].E *= stiff ? 1000 : 1;
+        }
+        kt_materials mats = s->mats;
+        mats.mat = mat;
+        kt_aug_problem q = s->prob;
+        q.mats = &mats;
+        kt_err e = {0};
+        double *full[NSTEPS + 1] = {0};
+        kt_solver_opts o = opts(KT_AUG_PLANNED, "");
+        kt_solver *sv = NULL;
+        CHECK(kt_solver_create(&sv, &q, p, final, &o, &e) == KT_OK, "planned: %s", e.msg);
+        for (int k = 0; sv && k <= p->nsteps && !e.code; k++) {
+            int solved = 1;
+            if (k > 0) kt_solver_step(sv, &solved, &e);
+            size_t n = 3 * (size_t)kt_solver_mesh(sv)->nn;
+            if ((full[k] = malloc(n * sizeof(double)))) memcpy(full[k], kt_solver_u(sv), n * sizeof(double));
+        }
+        kt_solver_free(sv);
+        CHECK(!e.code, "planned: %s", e.msg);
+        int masked = 0;
+        const char *out = stiff ? "" : "ymax";
+        if (!e.code && run_newton(s, &q, p, final, out, full, gap[stiff], &masked, &e))
+            CHECK(0, "newton: %s", e.msg);
+        CHECK(masked == 0, "newton --output '%s': %d values off the mask", out, masked);
+        for (int k = 0; k <= p->nsteps; k++) free(full[k]);
+    }
+    for (int k = 0; k <= p->nsteps; k++) {
+        printf("test_solver: newton step %d: %.3g from planned at the load, %.3g with 1000x the "
+               "moduli\n", k, gap[0][k], gap[1][k]);
+        CHECK(gap[1][k] <= 1e-3, "newton step %d, small load: %g from planned", k, gap[1][k]);
+        CHECK(gap[0][k] >= 1e-4 && gap[0][k] >= 100 * gap[1][k],
+              "newton step %d: %g from planned at the load, %g at 1/1000 of it", k, gap[0][k],
+              gap[1][k]);
+    }
+    kt_err e = {0};
+    kt_solver_opts o = opts(KT_AUG_NEWTON, "");
+    kt_solver *sv = NULL;
+    CHECK(kt_solver_create(&sv, &s->prob, p, final, &o, &e) == KT_EINPUT && !sv &&
+              strstr(e.msg, "--verify"),
+          "newton --verify: %d %s", e.code, e.msg);
+    kt_solver_free(sv);
+}
+
 int main(void)
 {
     kt_err e = {0};
@@ -192,6 +287,7 @@ int main(void)
     if (!e.code) {
         test_output(&beam, &p, &final);
         test_unknown_set(&beam, &p, &final);
+        test_newton(&beam, &p, &final);
     }
     kt_edits_plan_free(&p);
     kt_mesh_free(&final);
