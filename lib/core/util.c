@@ -463,3 +463,20 @@ int kt_fnv1a_file(const char *path, unsigned long long *h, kt_err *e)
     *h = (unsigned long long)v;
     return KT_OK;
 }
+
+void kt_path_dir(const char *path, char *out, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    if (strcmp(path, "-") == 0 || !slash) snprintf(out, size, ".");
+    else if (slash == path) snprintf(out, size, "/");
+    else snprintf(out, size, "%.*s", (int)(slash - path), path);
+}
+
+void kt_path_stem(const char *path, char *out, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    const char *b = slash ? slash + 1 : path;
+    const char *dot = strrchr(b, '.');
+    int len = dot && dot != b ? (int)(dot - b) : (int)strlen(b);
+    snprintf(out, size, "%.*s", len, b);
+}

@@ -91,6 +91,11 @@ long kt_line_read(FILE *f, char **buf, size_t *cap, size_t max, kt_err *e);
  * both (realpath); when either cannot be resolved or the result does not fit, file as given.
  * Run folders store their inputs this way, so a tree holding a run and its inputs can move. */
 void kt_path_relative(const char *file, const char *dir, char *out, size_t size);
+/* out := the folder of path ("." for a bare name or "-", "/" at the root), and the file name
+ * without folder and extension: what a scene, plan or patient file resolves its paths against
+ * and is named by. */
+void kt_path_dir(const char *path, char *out, size_t size);
+void kt_path_stem(const char *path, char *out, size_t size);
 
 /* The 64-bit FNV-1a hash of a file's bytes into *h (run.yaml's plan_hash: a run's inputs are
  * checked against what a later reader finds). KT_EINPUT when it cannot be read. */

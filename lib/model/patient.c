@@ -55,14 +55,6 @@ static kt_yml_bounds range(double lo, double hi, int lo_open, int hi_open)
     return b;
 }
 
-static void dir_of(const char *path, char *dir, size_t size)
-{
-    const char *slash = strrchr(path, '/');
-    if (!slash) snprintf(dir, size, ".");
-    else if (slash == path) snprintf(dir, size, "/");
-    else snprintf(dir, size, "%.*s", (int)(slash - path), path);
-}
-
 static void defaults(kt_patient *p)
 {
     memset(p, 0, sizeof *p);
@@ -315,9 +307,8 @@ int kt_patient_load(const char *path, kt_patient *p, kt_err *e)
     defaults(p);
     if (strlen(path) >= sizeof p->path) return kt_fail(e, KT_EINPUT, "%.200s...: path too long", path);
     strcpy(p->path, path);
-    dir_of(path, p->dir, sizeof p->dir);
-    const char *slash = strrchr(path, '/'), *b = slash ? slash + 1 : path, *dot = strrchr(b, '.');
-    snprintf(p->name, sizeof p->name, "%.*s", dot && dot != b ? (int)(dot - b) : (int)strlen(b), b);
+    kt_path_dir(path, p->dir, sizeof p->dir);
+    kt_path_stem(path, p->name, sizeof p->name);
     kt_yml y;
     if (kt_yml_load(&y, path, e)) return e->code;
     int rc = parse(&y, p, e);

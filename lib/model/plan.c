@@ -104,20 +104,12 @@ static int parse_progression(kt_yml *y, const yaml_node_t *n, const char *what, 
 
 /* ---- scene ---- */
 
-static void dir_of(const char *path, char *dir, size_t size)
-{
-    const char *slash = strrchr(path, '/');
-    if (strcmp(path, "-") == 0 || !slash) snprintf(dir, size, ".");
-    else if (slash == path) snprintf(dir, size, "/");
-    else snprintf(dir, size, "%.*s", (int)(slash - path), path);
-}
-
 static int parse_scene_key(kt_yml *y, const yaml_node_t *root, kt_plan *p, kt_err *e)
 {
     yaml_node_t *n = kt_yml_require(y, root, "scene", "the plan", e);
     char rel[1024], dir[1024];
     if (!n || kt_yml_string(y, n, "scene", rel, sizeof rel, e)) return e->code;
-    dir_of(p->path, dir, sizeof dir);
+    kt_path_dir(p->path, dir, sizeof dir);
     int len = rel[0] == '/' ? snprintf(p->scene_path, sizeof p->scene_path, "%s", rel)
                             : snprintf(p->scene_path, sizeof p->scene_path, "%s/%s", dir, rel);
     if (len >= (int)sizeof p->scene_path) return kt_yml_fail(y, n, e, "scene: path too long");

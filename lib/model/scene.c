@@ -40,25 +40,6 @@ static void scene_defaults(kt_scene *s)
     s->reference_tol = 3e-5;            /* mm (0.03 um): K within about 0.01 D at 3 mm */
 }
 
-/* Directory part of a path ("." when there is none). */
-static void dir_of(const char *path, char *dir, size_t size)
-{
-    const char *slash = strrchr(path, '/');
-    if (!slash) snprintf(dir, size, ".");
-    else if (slash == path) snprintf(dir, size, "/");
-    else snprintf(dir, size, "%.*s", (int)(slash - path), path);
-}
-
-/* Default name: the file name without folder and extension. */
-static void base_name(const char *path, char *name, size_t size)
-{
-    const char *slash = strrchr(path, '/');
-    const char *b = slash ? slash + 1 : path;
-    const char *dot = strrchr(b, '.');
-    int len = dot && dot != b ? (int)(dot - b) : (int)strlen(b);
-    snprintf(name, size, "%.*s", len, b);
-}
-
 int kt_scene_in_list(const char *const *list, const char *s)
 {
     for (int i = 0; list && list[i]; i++)
@@ -581,8 +562,8 @@ int kt_scene_load(const char *path, kt_scene *s, kt_err *e)
     scene_defaults(s);
     if (strlen(path) >= sizeof s->path) return kt_fail(e, KT_EINPUT, "%.200s...: path too long", path);
     strcpy(s->path, path);
-    dir_of(path, s->dir, sizeof s->dir);
-    base_name(path, s->name, sizeof s->name);
+    kt_path_dir(path, s->dir, sizeof s->dir);
+    kt_path_stem(path, s->name, sizeof s->name);
     kt_yml y;
     if (kt_yml_load(&y, path, e)) return e->code;
     yaml_node_t *root = kt_yml_root(&y, e);
