@@ -34,6 +34,14 @@ p=$(plan arc "$eye" 'incisions:
   - {meridian: 90 deg, arc: 361 deg, depth: 500 um, position: {diameter: 10.5 mm}}
 ')
 expect 2 "^cutplan: $p:3:29: incisions\[0\]\.arc" "$p"
+p=$(plan arcopp "$eye" 'incisions:
+  - {meridian: 90 deg, arc: 60 deg, arc_opposite: 30 deg, depth: 500 um, position: {diameter: 10.5 mm}}
+')
+expect 2 "^cutplan: $p:3:51: incisions\[0\]\.arc_opposite: expected only with paired" "$p"
+p=$(plan arcopp2 "$eye" 'incisions:
+  - {meridian: 90 deg, arc: 60 deg, arc_opposite: 200 deg, paired: true, depth: 500 um, position: {diameter: 10.5 mm}}
+')
+expect 2 "^cutplan: $p:3:51: incisions\[0\]\.arc_opposite" "$p"
 p=$(plan depth "$eye" 'incisions:
   - {meridian: 90 deg, arc: 60 deg, depth: -5 um, position: {diameter: 10.5 mm}}
 ')

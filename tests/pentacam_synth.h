@@ -10,6 +10,7 @@
 
 typedef struct synth_surface {
     double r_steep, r_flat, axis, conic, ax, ay; /* mm, mm, deg, -, mm, mm */
+    double coma;                                 /* 1/mm^2: + coma u (u^2 + v^2), u along the axis */
 } synth_surface;
 
 /* Sag of the biconic at (x, y); NAN outside its domain. */
@@ -20,7 +21,7 @@ static double synth_sag(const synth_surface *s, double x, double y)
     double cs = 1 / s->r_steep, cf = 1 / s->r_flat;
     double q1 = cs * u * u + cf * v * v, q2 = cs * cs * u * u + cf * cf * v * v;
     double w = 1 - (1 + s->conic) * q2;
-    return w > 0 ? q1 / (1 + sqrt(w)) : NAN;
+    return w > 0 ? q1 / (1 + sqrt(w)) + s->coma * u * (u * u + v * v) : NAN;
 }
 
 /* Which cells are missing: beyond radius r_data from the centre, every 13th cell, a 5-cell

@@ -10,12 +10,21 @@
 #include "surffit.h"
 
 #define KT_LRIPLAN_MAXSTEP 64
+/* Unequal paired arcs (keratome-patient(5), UNEQUAL PAIRED ARCS; the project's rule, not a
+ * publication's): run when the two halves' astigmatism differ by more than 10% (their ratio
+ * below 0.9); the opposite arc's ratio is never below 0.2 (shorter, a single arc does it). */
+#define KT_LRIPLAN_SYMMETRIC 0.9
+#define KT_LRIPLAN_RATIO_MIN 0.2
 
 /* One family's run: the predicted astigmatism after each step (step 0: no arc). */
 typedef struct kt_lri_family {
     int paired;
+    int unequal;                      /* a pair of unequal arcs (the opposite one ratio x arc) */
+    double meridian;                  /* the (longer) arc's centre, deg [0, 360) */
+    double ratio;                     /* the opposite arc over this one (1 for an equal pair) */
+    char name[16];                    /* single, paired, unequal: the files' names */
     int nstep;                        /* steps run, arcs step * o->step deg */
-    double arc[KT_LRIPLAN_MAXSTEP + 1];
+    double arc[KT_LRIPLAN_MAXSTEP + 1], arc_opp[KT_LRIPLAN_MAXSTEP + 1]; /* deg (arc_opp: 0 single) */
     kt_astig kerato[KT_LRIPLAN_MAXSTEP + 1], total[KT_LRIPLAN_MAXSTEP + 1]; /* simulated */
     kt_astig pred[KT_LRIPLAN_MAXSTEP + 1]; /* predicted post-operative, the target's kind */
     int best;                         /* step of the least predicted residual */
@@ -28,23 +37,49 @@ typedef struct kt_lri_answer {
     kt_surffit fit_ant, fit_post;
     int fit_post_ok, fit_pachy_ok;
     kt_pachyfit fit_pachy;
+    kt_halfmer halves;                /* the half-meridian powers (Pentacam front) */
+    int halves_ok;
+    double half_a, half_b;            /* half-meridian astigmatism at axis and axis + 180, D */
+    double ratio;                     /* the shorter arc over the longer (1: symmetric) */
+    double steep_half;                /* meridian of the steeper half, deg [0, 360) */
     double t_zone;                    /* pachymetry at the zone used, mm */
     double blade;                     /* blade depth, mm */
     kt_astig pre_kerato, pre_total;   /* pre-operative (measured; total with the posterior) */
     kt_astig post_vec;                /* the posterior toricity's contribution to the total */
     kt_astig main_vec;                /* the main incision's SIA added (0 when none / simulated) */
     int nfam;
-    kt_lri_family fam[2];
+    kt_lri_family fam[3];
     int chosen;                       /* family index of the answer */
     double mesh_seconds, solve_seconds;
     int nodes;                        /* of the mesh */
     uint64_t mesh_hash;               /* kt_mesh_hash of the mesh */
 } kt_lri_answer;
 
+/* One arc of the answer as the surgeon marks it. */
+typedef struct kt_lri_arc {
+    double centre, arc;               /* deg TABO [0, 360), deg */
+    double from, to;                  /* end points, deg [0, 360): from centre - arc/2 to centre + arc/2 */
+    char from_clock[8], to_clock[8];  /* "h:mm" */
+    double chord;                     /* mm at the zone */
+} kt_lri_arc;
+
+/* The chosen answer's arcs (0 when no arc, 1 single, 2 a pair); post-operative astigmatism. */
+int kt_lri_arcs(const kt_lri_answer *a, kt_lri_arc arcs[2]);
+void kt_lri_post(const kt_lri_answer *a, kt_astig *kerato, kt_astig *total);
+/* The clock hour of a meridian as the surgeon reads the eye (12 superior, 3 at the
+ * examiner's right), "h:mm". */
+void kt_lri_clock(double deg, char out[8]);
+
+/* plan.html (lriplan_html.c); report: the chosen run's report.html relative to PLAN_DIR, or
+ * NULL. */
+int kt_lri_write_html(const kt_lri_answer *a, const kt_lriplan_opts *o, const char *report, const char *path, kt_err *e);
+/* The simulated keratometric SIA of step k of a family, D (double-angle difference from step 0). */
+double kt_lri_sia(const kt_lri_family *c, int k);
+
 /* Fill the answer's prediction per step and choose (lriplan_out.c). */
 void kt_lri_choose(kt_lri_answer *a);
 /* plan.json into the folder and the summary text. */
-int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const char *path, kt_err *e);
+int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const char *report, const char *path, kt_err *e);
 void kt_lri_summary(const kt_lri_answer *a, const kt_lriplan_opts *o, FILE *f);
 
 #endif

@@ -23,7 +23,7 @@ static double clock_hour(double deg)
 }
 
 /* The clock position as "h:mm" (12:50 is just past twelve, towards one). */
-static void clock_text(double deg, char out[8])
+void kt_lri_clock(double deg, char out[8])
 {
     int m = (int)lround(clock_hour(deg) * 60) % 720;
     int h = m / 60 % 12;
@@ -64,17 +64,34 @@ void kt_lri_choose(kt_lri_answer *a)
     }
 }
 
-static void arc_ends(const kt_lri_answer *a, double arc, double centre, double ends[2])
+int kt_lri_arcs(const kt_lri_answer *a, kt_lri_arc arcs[2])
 {
-    (void)a;
-    ends[0] = wrap360(centre - arc / 2), ends[1] = wrap360(centre + arc / 2);
+    const kt_lri_family *f = &a->fam[a->chosen];
+    if (a->nfam == 0 || f->arc[f->best] <= 0) return 0;
+    int n = 1 + f->paired;
+    for (int i = 0; i < n; i++) {
+        kt_lri_arc *r = &arcs[i];
+        r->centre = wrap360(f->meridian + 180 * i);
+        r->arc = i ? f->arc_opp[f->best] : f->arc[f->best];
+        r->from = wrap360(r->centre - r->arc / 2), r->to = wrap360(r->centre + r->arc / 2);
+        kt_lri_clock(r->from, r->from_clock), kt_lri_clock(r->to, r->to_clock);
+        r->chord = a->p.zone * sin(r->arc / 2 * KT_CURV_DEG);
+    }
+    return n;
 }
 
-int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const char *path, kt_err *e)
+void kt_lri_post(const kt_lri_answer *a, kt_astig *kerato, kt_astig *total)
+{
+    const kt_lri_family *f = &a->fam[a->chosen];
+    *kerato = add(f->kerato[f->best], a->main_vec);
+    *total = add(add(f->total[f->best], a->post_vec), a->main_vec);
+}
+
+int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const char *report, const char *path, kt_err *e)
 {
     const kt_patient *p = &a->p;
     const kt_lri_family *f = &a->fam[a->chosen];
-    double arc = f->arc[f->best], ends[2];
+    double arc = f->arc[f->best];
     kt_out out;
     if (kt_out_open(&out, path, e)) return e->code;
     FILE *j = out.f;
@@ -119,35 +136,52 @@ int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const ch
     fprintf(j, "  \"pre_op\": {\"keratometric_D\": %.3f, \"keratometric_axis_deg\": %.1f, \"total_D\": %.3f, \"total_axis_deg\": %.1f, "
                "\"posterior_contribution_D\": %.3f, \"posterior_contribution_axis_deg\": %.1f},\n",
             a->pre_kerato.mag, a->pre_kerato.axis, a->pre_total.mag, a->pre_total.axis, a->post_vec.mag, a->post_vec.axis);
-    arc_ends(a, arc, p->ant.axis, ends);
-    kt_astig kpost = f->kerato[f->best], tpost = f->total[f->best];
-    char c0[8], c1[8];
-    clock_text(ends[0], c0), clock_text(ends[1], c1);
-    fprintf(j, "  \"plan\": {\"incisions\": \"%s\", \"arc_deg\": %.1f, \"centre_deg\": %.2f, \"from_deg\": %.1f, \"to_deg\": %.1f, "
-               "\"from_clock\": \"%s\", \"to_clock\": \"%s\", \"chord_mm\": %.2f, \"zone_mm\": %.2f, \"blade_um\": %.0f,\n",
-            f->paired ? "paired" : "single", arc, p->ant.axis, ends[0], ends[1], c0, c1, p->zone * sin(arc / 2 * KT_CURV_DEG),
-            p->zone, 1000 * a->blade);
+    kt_lri_arc arcs[2];
+    int narc = kt_lri_arcs(a, arcs);
+    kt_astig kpost, tpost;
+    kt_lri_post(a, &kpost, &tpost);
+    fprintf(j, "  \"plan\": {\"incisions\": \"%s\", \"arc_deg\": %.1f, \"arc_opposite_deg\": %.1f, \"centre_deg\": %.2f, "
+               "\"from_deg\": %.1f, \"to_deg\": %.1f, \"from_clock\": \"%s\", \"to_clock\": \"%s\", \"chord_mm\": %.2f, "
+               "\"zone_mm\": %.2f, \"blade_um\": %.0f,\n",
+            f->name, arc, f->arc_opp[f->best], narc ? arcs[0].centre : f->meridian, narc ? arcs[0].from : f->meridian,
+            narc ? arcs[0].to : f->meridian, narc ? arcs[0].from_clock : "", narc ? arcs[0].to_clock : "",
+            narc ? arcs[0].chord : 0.0, p->zone, 1000 * a->blade);
+    fprintf(j, "    \"arcs\": [");
+    for (int i = 0; i < narc; i++)
+        fprintf(j, "%s{\"centre_deg\": %.2f, \"arc_deg\": %.1f, \"from_deg\": %.1f, \"to_deg\": %.1f, \"from_clock\": \"%s\", "
+                   "\"to_clock\": \"%s\", \"chord_mm\": %.2f}",
+                i ? ", " : "", arcs[i].centre, arcs[i].arc, arcs[i].from, arcs[i].to, arcs[i].from_clock, arcs[i].to_clock,
+                arcs[i].chord);
+    fprintf(j, "],\n");
     fprintf(j, "    \"predicted_residual_D\": %.3f, \"predicted_residual_axis_deg\": %.1f, \"reached\": %s,\n", f->pred[f->best].mag,
             f->pred[f->best].axis, f->pred[f->best].mag <= p->target_residual ? "true" : "false");
     fprintf(j, "    \"post_op_keratometric_D\": %.3f, \"post_op_keratometric_axis_deg\": %.1f, \"post_op_total_D\": %.3f, "
                "\"post_op_total_axis_deg\": %.1f},\n",
-            add(kpost, a->main_vec).mag, add(kpost, a->main_vec).axis, add(add(tpost, a->post_vec), a->main_vec).mag,
-            add(add(tpost, a->post_vec), a->main_vec).axis);
+            kpost.mag, kpost.axis, tpost.mag, tpost.axis);
+    if (a->halves_ok)
+        fprintf(j, "  \"halves\": {\"k_at_axis_D\": %.3f, \"k_opposite_D\": %.3f, \"k_flat_D\": %.3f, \"astig_at_axis_D\": %.3f, "
+                   "\"astig_opposite_D\": %.3f, \"steeper_half_deg\": %.1f, \"ratio\": %.4f, \"cells\": %d},\n",
+                a->halves.k_a, a->halves.k_b, a->halves.k_flat, a->half_a, a->half_b, a->steep_half, a->ratio,
+                a->halves.npts);
     fprintf(j, "  \"candidates\": [");
     for (int i = 0; i < a->nfam; i++) {
         const kt_lri_family *c = &a->fam[i];
-        fprintf(j, "%s\n    {\"incisions\": \"%s\", \"best_arc_deg\": %.1f, \"best_residual_D\": %.3f, \"curve\": [", i ? "," : "",
-                c->paired ? "paired" : "single", c->arc[c->best], c->pred[c->best].mag);
+        fprintf(j, "%s\n    {\"incisions\": \"%s\", \"meridian_deg\": %.2f, \"ratio\": %.4f, \"best_arc_deg\": %.1f, "
+                   "\"best_arc_opposite_deg\": %.1f, \"best_residual_D\": %.3f, \"best_residual_axis_deg\": %.1f, \"curve\": [",
+                i ? "," : "", c->name, c->meridian, c->ratio, c->arc[c->best], c->arc_opp[c->best], c->pred[c->best].mag,
+                c->pred[c->best].axis);
         for (int k = 0; k <= c->nstep; k++)
-            fprintf(j, "%s{\"arc_deg\": %.1f, \"residual_D\": %.4f, \"residual_axis_deg\": %.1f, \"keratometric_D\": %.4f, "
-                       "\"total_D\": %.4f}",
-                    k ? ", " : "", c->arc[k], c->pred[k].mag, c->pred[k].axis, c->kerato[k].mag, c->total[k].mag);
+            fprintf(j, "%s{\"arc_deg\": %.1f, \"arc_opposite_deg\": %.2f, \"residual_D\": %.4f, \"residual_axis_deg\": %.1f, \"keratometric_D\": %.4f, "
+                       "\"total_D\": %.4f, \"sia_D\": %.4f}",
+                    k ? ", " : "", c->arc[k], c->arc_opp[k], c->pred[k].mag, c->pred[k].axis, c->kerato[k].mag, c->total[k].mag,
+                    kt_lri_sia(c, k));
         fprintf(j, "]}");
     }
     fprintf(j, "\n  ],\n  \"provenance\": {\"scene\": \"scene.yaml\", \"mesh\": \"eye.msh\", \"mesh_hash\": \"%016llx\", "
-               "\"mesh_nodes\": %d, \"fast\": %s, \"step_deg\": %g, \"mesh_seconds\": %.1f, \"solve_seconds\": %.1f}\n}\n",
+               "\"mesh_nodes\": %d, \"fast\": %s, \"step_deg\": %g, \"mesh_seconds\": %.1f, \"solve_seconds\": %.1f, "
+               "\"plan_html\": \"plan.html\", \"report\": \"%s\"}\n}\n",
             (unsigned long long)a->mesh_hash, a->nodes, o->fast ? "true" : "false", o->step, a->mesh_seconds,
-            a->solve_seconds);
+            a->solve_seconds, report ? report : "");
     if (ferror(j)) {
         kt_out_abort(&out);
         return kt_fail(e, KT_ERUN, "%s: write failed", path);
@@ -159,7 +193,6 @@ void kt_lri_summary(const kt_lri_answer *a, const kt_lriplan_opts *o, FILE *s)
 {
     const kt_patient *p = &a->p;
     const kt_lri_family *f = &a->fam[a->chosen];
-    double arc = f->arc[f->best], ends[2];
     fprintf(s, "lri-plan: %s, %s, %g y\n", p->name, p->eye == KT_EYE_OS ? "OS (left)" : "OD (right)", p->age);
     fprintf(s, "  cornea (%s): K %.2f / %.2f D @ %.0f deg; posterior %.2f / %.2f D @ %.0f deg (%s)\n",
             a->fitted ? "Pentacam fit" : "keratometry", kt_patient_k(p->ant.r_steep), kt_patient_k(p->ant.r_flat), p->ant.axis,
@@ -182,26 +215,37 @@ void kt_lri_summary(const kt_lri_answer *a, const kt_lriplan_opts *o, FILE *s)
         fprintf(s, "  main incision: %.1f mm %s at %.0f deg: %s\n", p->main_width,
                 p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear corneal", p->main_meridian,
                 p->main_simulate ? "simulation not yet modelled, its SIA is NOT included" : "surgeon's SIA added");
+    if (a->halves_ok)
+        fprintf(s, "  half-meridians: %.2f D @ %.0f and %.2f D @ %.0f over K flat %.2f D: %s\n", a->half_a, p->ant.axis,
+                a->half_b, fmod(p->ant.axis + 180, 360), a->halves.k_flat,
+                a->ratio < KT_LRIPLAN_SYMMETRIC ? "asymmetric, unequal pairs tried" : "symmetric");
+    fprintf(s, "  candidates (best of each, residual %s):\n", p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric");
     for (int i = 0; i < a->nfam; i++) {
         const kt_lri_family *c = &a->fam[i];
-        fprintf(s, "  %-6s arcs: best %4.0f deg, residual %.2f D @ %.0f\n", c->paired ? "paired" : "single", c->arc[c->best],
-                c->pred[c->best].mag, c->pred[c->best].axis);
+        char arcs[48];
+        if (c->unequal) snprintf(arcs, sizeof arcs, "%.0f + %.1f deg", c->arc[c->best], c->arc_opp[c->best]);
+        else snprintf(arcs, sizeof arcs, "%s%.0f deg", c->paired ? "2 x " : "", c->arc[c->best]);
+        fprintf(s, "    %-7s at %3.0f deg: %-16s residual %.2f D @ %3.0f%s\n", c->name, c->meridian, arcs, c->pred[c->best].mag,
+                c->pred[c->best].axis, i == a->chosen ? "  <- chosen" : "");
     }
-    arc_ends(a, arc, p->ant.axis, ends);
-    if (arc == 0) {
+    kt_lri_arc arcs[2];
+    int narc = kt_lri_arcs(a, arcs);
+    if (narc == 0) {
         fprintf(s, "  answer: no arc (none lowers the %s residual)\n",
                 p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric");
     } else {
-        char c0[8], c1[8];
-        clock_text(ends[0], c0), clock_text(ends[1], c1);
-        fprintf(s, "  answer: %s %.0f deg at the %.1f mm zone, %.0f um deep: from %.0f to %.0f deg (%s to %s)%s,"
-                   " chord %.2f mm\n",
-                f->paired ? "paired" : "single", arc, p->zone, 1000 * a->blade, ends[0], ends[1], c0, c1,
-                f->paired ? " and opposite" : "", p->zone * sin(arc / 2 * KT_CURV_DEG));
+        fprintf(s, "  answer: %s at the %.1f mm zone, blade %.0f um deep:\n", f->name, p->zone, 1000 * a->blade);
+        for (int i = 0; i < narc; i++)
+            fprintf(s, "    arc %d: %.0f deg centred on %.0f, from %.0f to %.0f deg (%s to %s o'clock), chord %.2f mm\n", i + 1,
+                    arcs[i].arc, arcs[i].centre, arcs[i].from, arcs[i].to, arcs[i].from_clock, arcs[i].to_clock, arcs[i].chord);
     }
+    kt_astig kpost, tpost;
+    kt_lri_post(a, &kpost, &tpost);
+    fprintf(s, "  post-op: keratometric %.2f D @ %.0f, total corneal %.2f D @ %.0f\n", kpost.mag, kpost.axis, tpost.mag,
+            tpost.axis);
     fprintf(s, "  predicted %s residual %.2f D @ %.0f: %s the %.2f D target\n",
             p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric", f->pred[f->best].mag, f->pred[f->best].axis,
             f->pred[f->best].mag <= p->target_residual ? "reaches" : "does NOT reach", p->target_residual);
-    fprintf(s, "  written: %s/plan.json, scene.yaml, eye.msh, run-*/ (mesh %.0f s, solves %.0f s%s)\n", o->outdir,
+    fprintf(s, "  written: %s/plan.html, plan.json, report/report.html, scene.yaml, eye.msh, run-*/ (mesh %.0f s, solves %.0f s%s)\n", o->outdir,
             a->mesh_seconds, a->solve_seconds, o->fast ? ", --fast" : "");
 }

@@ -36,7 +36,9 @@ static int fit_pentacam(kt_lri_answer *a, kt_err *e)
     kt_pentacam_map m;
     if (kt_pentacam_read(p->pentacam_front, KT_PENTACAM_ELEVATION, &m, e)) return e->code;
     int rc = kt_surffit_elevation(&m, KT_SURFFIT_ZONE, &a->fit_ant, e);
+    if (rc == KT_OK) rc = kt_surffit_halves(&m, &a->fit_ant, &a->halves, e);
     kt_pentacam_free(&m);
+    if (rc == KT_OK) a->halves_ok = 1;
     if (rc) return rc;
     p->ant.r_steep = a->fit_ant.r_steep, p->ant.r_flat = a->fit_ant.r_flat;
     p->ant.axis = a->fit_ant.axis, p->ant.conic = a->fit_ant.conic;
@@ -64,6 +66,18 @@ static int fit_pentacam(kt_lri_answer *a, kt_err *e)
         return kt_fail(e, KT_EINPUT, "%s: the fitted anterior radii %.3f / %.3f mm are not a cornea's", p->pentacam_front,
                        p->ant.r_steep, p->ant.r_flat);
     return KT_OK;
+}
+
+/* The halves of the steep meridian: which is steeper and the ratio of their astigmatism (the
+ * unequal pair's arcs); keratometry alone is symmetric. */
+static void asymmetry(kt_lri_answer *a)
+{
+    a->ratio = 1, a->steep_half = a->p.ant.axis;
+    if (!a->halves_ok) return;
+    a->half_a = a->halves.k_a - a->halves.k_flat, a->half_b = a->halves.k_b - a->halves.k_flat;
+    double big = fmax(a->half_a, a->half_b), small = fmin(a->half_a, a->half_b);
+    if (a->half_b > a->half_a) a->steep_half = fmod(a->p.ant.axis + 180, 360);
+    if (big > 0) a->ratio = fmin(1, fmax(KT_LRIPLAN_RATIO_MIN, small / big));
 }
 
 /* Pachymetry at the zone and the blade depth; a blade deeper than 90% of it is bad input. */
@@ -106,16 +120,17 @@ static int write_scene(const kt_lri_answer *a, const kt_scene *s, const char *ba
     return rc ? (kt_out_abort(&out), rc) : kt_out_commit(&out, e);
 }
 
-static int write_plan(const kt_lriplan_opts *o, const kt_lri_answer *a, int paired, const char *path, kt_err *e)
+static int write_plan(const kt_lriplan_opts *o, const kt_lri_answer *a, const kt_lri_family *f, const char *path, kt_err *e)
 {
     const kt_patient *p = &a->p;
     kt_out out;
     if (kt_out_open(&out, path, e)) return e->code;
-    int nstep = (int)floor(p->max_arc / o->step + 1e-9);
-    fprintf(out.f, "# lri-plan: %s arcs on the steep meridian, cut centre-out to %g deg\n", paired ? "paired" : "single",
-            nstep * o->step);
-    fprintf(out.f, "name: lri-%s\nscene: scene.yaml\nincisions:\n", paired ? "paired" : "single");
-    fprintf(out.f, "  - meridian: %.17g deg\n    arc: %.17g deg\n", p->ant.axis, nstep * o->step);
+    int nstep = f->nstep, paired = f->paired;
+    fprintf(out.f, "# lri-plan: %s arcs on the steep meridian, cut centre-out to %g deg", f->name, nstep * o->step);
+    if (f->unequal) fprintf(out.f, " (the opposite arc %.4g x as long, growing in proportion)", f->ratio);
+    fprintf(out.f, "\nname: lri-%s\nscene: scene.yaml\nincisions:\n", f->name);
+    fprintf(out.f, "  - meridian: %.17g deg\n    arc: %.17g deg\n", f->meridian, nstep * o->step);
+    if (f->unequal) fprintf(out.f, "    arc_opposite: %.17g deg\n", f->ratio * nstep * o->step);
     if (p->depth_fraction > 0) fprintf(out.f, "    depth_fraction: %.17g\n", p->depth_fraction);
     else fprintf(out.f, "    depth: %.17g mm\n", p->depth);
     fprintf(out.f, "    position: {surface: incision-ring-1}\n    paired: %s\n    direction: centre-out\n",
@@ -148,6 +163,7 @@ static int read_table(const char *path, kt_lri_family *f, double step, kt_err *e
             f->kerato[row].mag = v[0], f->kerato[row].axis = v[1];
             f->total[row].mag = v[2], f->total[row].axis = v[3];
             f->arc[row] = row * step;
+            f->arc_opp[row] = f->paired ? row * step * f->ratio : 0;
         }
         row++;
     }
@@ -158,13 +174,19 @@ static int read_table(const char *path, kt_lri_family *f, double step, kt_err *e
     return KT_OK;
 }
 
-static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, int paired, const char *mesh, kt_err *e)
+/* kind 0: one arc on the steeper half; 1: an equal pair; 2: an unequal pair, the longer arc on
+ * the steeper half. */
+static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, int kind, const char *mesh, kt_err *e)
 {
-    const char *name = paired ? "paired" : "single";
+    static const char *const NAMES[] = {"single", "paired", "unequal"};
+    const char *name = NAMES[kind];
     char plan[PATHLEN], edits[PATHLEN], run[PATHLEN], tsv[PATHLEN], leaf[64];
     kt_lri_family *f = &a->fam[a->nfam];
     memset(f, 0, sizeof *f);
-    f->paired = paired;
+    f->paired = kind > 0, f->unequal = kind == 2;
+    snprintf(f->name, sizeof f->name, "%s", name);
+    f->meridian = kind == 1 ? a->p.ant.axis : a->steep_half;
+    f->ratio = kind == 2 ? a->ratio : 1;
     f->nstep = (int)floor(a->p.max_arc / o->step + 1e-9);
     if (f->nstep > KT_LRIPLAN_MAXSTEP) return kt_fail(e, KT_EINPUT, "--step %g: expected at most %d steps to max_arc", o->step, KT_LRIPLAN_MAXSTEP);
     snprintf(leaf, sizeof leaf, "plan-%s.yaml", name);
@@ -173,7 +195,7 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, int paired, co
     if (join(edits, o->outdir, leaf, e)) return e->code;
     snprintf(leaf, sizeof leaf, "run-%s", name);
     if (join(run, o->outdir, leaf, e) || join(tsv, run, "curvature.tsv", e)) return e->code;
-    if (write_plan(o, a, paired, plan, e)) return e->code;
+    if (write_plan(o, a, f, plan, e)) return e->code;
     kt_log(o->quiet, "lri-plan: %s arcs: cutplan, augsolve, curvature\n", name);
     kt_cutplan_opts co = {plan, mesh, edits, NULL, 0, 1};
     if (kt_cutplan_run(&co, e)) return e->code;
@@ -196,15 +218,39 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, int paired, co
     return KT_OK;
 }
 
+/* The chosen run's teaching report: curvature on its run folder, step 0 and the chosen step
+ * only, into PLAN_DIR/report/ (report.html with its maps); *report: its path relative to
+ * PLAN_DIR, NULL when no arc was chosen. */
+static int chosen_report(const kt_lriplan_opts *o, const kt_lri_answer *a, const char **report, kt_err *e)
+{
+    const kt_lri_family *f = &a->fam[a->chosen];
+    *report = NULL;
+    if (a->nfam == 0 || f->best == 0) return KT_OK;
+    char run[PATHLEN], dir[PATHLEN], leaf[64];
+    snprintf(leaf, sizeof leaf, "run-%s", f->name);
+    if (join(run, o->outdir, leaf, e) || join(dir, o->outdir, "report", e)) return e->code;
+    kt_log(o->quiet, "lri-plan: the chosen run's report (%s, step %d)\n", f->name, f->best);
+    kt_curv_opts cv;
+    kt_curv_opts_default(&cv);
+    cv.run_dir = run, cv.outdir = dir, cv.vtk_out = 0, cv.quiet = 1, cv.step_sel = f->best;
+    cv.eye_os = a->p.eye == KT_EYE_OS;
+    FILE *sink = fopen("/dev/null", "w");
+    if (!sink) return kt_fail(e, KT_ERUN, "/dev/null: cannot open");
+    int rc = kt_curv_run(&cv, sink, e);
+    fclose(sink);
+    if (rc == KT_OK) *report = "report/report.html";
+    return rc;
+}
+
 int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
 {
     kt_lri_answer *a = kt_calloc(1, sizeof *a, e);
     if (!a) return e->code;
-    char scene[PATHLEN], mesh[PATHLEN], json[PATHLEN], base[PATHLEN];
+    char scene[PATHLEN], mesh[PATHLEN], json[PATHLEN], base[PATHLEN], html[PATHLEN];
     kt_scene *s = kt_calloc(1, sizeof *s, e);
     int rc = s ? kt_patient_load(o->patient, &a->p, e) : e->code;
     if (rc == KT_OK && a->p.ant.source == KT_SOURCE_PENTACAM) rc = fit_pentacam(a, e);
-    if (rc == KT_OK) rc = blade(a, e);
+    if (rc == KT_OK) asymmetry(a), rc = blade(a, e);
     if (rc == KT_OK && !(o->step > 0 && o->step <= a->p.max_arc))
         rc = kt_fail(e, KT_EINPUT, "--step %g: expected an angle in (0, max_arc = %g] deg", o->step, a->p.max_arc);
     if (rc == KT_OK) rc = make_scene(o, a, s, base, e);
@@ -229,10 +275,14 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
     }
     if (rc == KT_OK && a->p.arcs != KT_ARCS_PAIRED) rc = run_family(o, a, 0, mesh, e);
     if (rc == KT_OK && a->p.arcs != KT_ARCS_SINGLE) rc = run_family(o, a, 1, mesh, e);
+    if (rc == KT_OK && a->p.arcs != KT_ARCS_SINGLE && a->ratio < KT_LRIPLAN_SYMMETRIC) rc = run_family(o, a, 2, mesh, e);
+    const char *report = NULL;
     if (rc == KT_OK) {
         kt_lri_choose(a);
-        rc = kt_lri_write_json(a, o, json, e);
+        rc = chosen_report(o, a, &report, e);
     }
+    if (rc == KT_OK) rc = kt_lri_write_json(a, o, report, json, e);
+    if (rc == KT_OK) rc = join(html, o->outdir, "plan.html", e) || kt_lri_write_html(a, o, report, html, e) ? e->code : KT_OK;
     if (rc == KT_OK && summary) kt_lri_summary(a, o, summary);
     free(a), free(s);
     return rc;

@@ -198,17 +198,20 @@ static double travel(int dir, double half, double d)
     return 2.0 * fabs(d);
 }
 
-/* Key of a face of vertex angles d[3] on an arc; -1 when the face is not on the arc. */
-double kt_incise_arc_key(const kt_incision *inc, const double *d)
+/* Key of a face of vertex angles d[3] on an arc (side 1: the opposite arc of a pair, which
+ * may be shorter or longer, arc_opposite, and grows in proportion: its key is scaled to the
+ * main arc's travel); -1 when the face is not on the arc. */
+double kt_incise_arc_key(const kt_incision *inc, const double *d, int side)
 {
-    double half = 0.5 * inc->arc, lo = fmin(d[0], fmin(d[1], d[2])), hi = fmax(d[0], fmax(d[1], d[2]));
+    double arc = side && inc->arc_opposite > 0 ? inc->arc_opposite : inc->arc, scale = inc->arc / arc;
+    double half = 0.5 * arc, lo = fmin(d[0], fmin(d[1], d[2])), hi = fmax(d[0], fmax(d[1], d[2]));
     const double tol = 1e-7;
     if (hi - lo > 180.0) /* straddles the back of a full ring: cut last */
-        return inc->arc >= 360.0 - tol ? inc->arc : -1.0;
+        return arc >= 360.0 - tol ? inc->arc : -1.0;
     if (lo < -half - tol || hi > half + tol) return -1.0;
     double key = 0;
     for (int k = 0; k < 3; k++) key = fmax(key, travel(inc->direction, half, d[k]));
-    return fmin(key, inc->arc);
+    return fmin(key * scale, inc->arc);
 }
 
 static int cmp_double(const void *a, const void *b)

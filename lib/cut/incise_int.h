@@ -111,7 +111,7 @@ double kt_incise_theta(const double *x);
 double kt_incise_rel_angle(double theta, double centre);
 /* Blade travel (deg) at which a face with vertices at relative angles d[3] is cut, or -1 when
  * the face is not on the incision's arc. */
-double kt_incise_arc_key(const kt_incision *inc, const double *d);
+double kt_incise_arc_key(const kt_incision *inc, const double *d, int side);
 /* Set up phase ph as incision `index` along an arc: name, unit (deg), travel and progression. */
 void kt_incise_arc_phase(const kt_incision *inc, int index, kt_phase *ph);
 /* Median edge length of the listed surface triangles. */

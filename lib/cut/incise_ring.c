@@ -89,12 +89,13 @@ static int ring_depths(kt_incise *c, const int *tris, int nt, double **depth, kt
 }
 
 /* Select the faces of one arc (centre in degrees) and append them to the phase. */
-static int ring_arc(kt_incise *c, const kt_incision *inc, double centre, const int *tris,
+static int ring_arc(kt_incise *c, const kt_incision *inc, int side, const int *tris,
                     const int *slots, int nt, const double *depth, double dmax, kt_phase *ph,
                     kt_err *e)
 {
     const kt_mesh *m = c->m;
     int fv = kt_tri_nv(m->order), found = 0;
+    double centre = inc->meridian + 180.0 * side, arc = side && inc->arc_opposite > 0 ? inc->arc_opposite : inc->arc;
     for (int i = 0; i < nt; i++) {
         const int *t = m->tri + (size_t)tris[i] * fv;
         double d[3];
@@ -103,7 +104,7 @@ static int ring_arc(kt_incise *c, const kt_incision *inc, double centre, const i
             d[k] = kt_incise_rel_angle(kt_incise_theta(m->xyz + 3 * (size_t)t[k]), centre);
             deep |= depth[t[k]] > dmax;
         }
-        double key = deep ? -1.0 : kt_incise_arc_key(inc, d);
+        double key = deep ? -1.0 : kt_incise_arc_key(inc, d, side);
         if (key < 0) continue;
         int side = ring_side(c, slots[i], e);
         if (e->code) return e->code;
@@ -117,7 +118,7 @@ static int ring_arc(kt_incise *c, const kt_incision *inc, double centre, const i
         char at[1100];
         kt_plan_where(c->plan, inc->at, at, sizeof at);
         return kt_fail(e, KT_EINPUT, "%s: expected the arc %g-%g deg to cross surface '%s', "
-                       "which has no faces there", at, centre - inc->arc / 2, centre + inc->arc / 2,
+                       "which has no faces there", at, centre - arc / 2, centre + arc / 2,
                        inc->surface);
     }
     return KT_OK;
@@ -144,8 +145,8 @@ int kt_incise_ring_phase(kt_incise *c, const kt_incision *inc, int index, kt_pha
     ph->face = kt_calloc((size_t)2 * nt, sizeof *ph->face, e);
     if (!ph->face) goto done;
     double dmax = inc->depth + 0.25 * h;
-    if (ring_arc(c, inc, inc->meridian, tris, slots, nt, depth, dmax, ph, e)) goto done;
-    if (inc->paired && ring_arc(c, inc, inc->meridian + 180.0, tris, slots, nt, depth, dmax, ph, e))
+    if (ring_arc(c, inc, 0, tris, slots, nt, depth, dmax, ph, e)) goto done;
+    if (inc->paired && ring_arc(c, inc, 1, tris, slots, nt, depth, dmax, ph, e))
         goto done;
     kt_incise_sort_faces(ph);
 done:

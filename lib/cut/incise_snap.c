@@ -342,7 +342,7 @@ static int select_arc_faces(kt_incise *c, const kt_incision *inc, kt_phase *ph, 
         for (int arcn = 0; arcn < 1 + inc->paired && key < 0; arcn++) {
             for (int k = 0; k < 3; k++)
                 d[k] = kt_incise_rel_angle(kt_incise_theta(face_x(c, s, k)), inc->meridian + 180.0 * arcn);
-            key = kt_incise_arc_key(inc, d);
+            key = kt_incise_arc_key(inc, d, arcn);
         }
         if (key < 0) continue;
         ph->face[n] = ph->face[i];

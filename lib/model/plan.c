@@ -19,7 +19,7 @@
 static const char *const TOP_KEYS[] = {"name", "description", "scene", "incisions", "progression",
                                        "deform", "planar_cut", "snap", "target", NULL};
 static const char *const INC_KEYS[] = {"meridian", "arc", "depth", "depth_fraction", "position",
-                                       "paired", "direction", "progression", NULL};
+                                       "paired", "arc_opposite", "direction", "progression", NULL};
 static const char *const POS_KEYS[] = {"diameter", "surface", NULL};
 static const char *const PROG_KEYS[] = {"degrees_per_step", "nodes_per_step", NULL};
 static const char *const DEF_KEYS[] = {"surface", "region", "displacement", "force", "components",
@@ -242,6 +242,12 @@ static int parse_incision(kt_yml *y, const yaml_node_t *n, int i, kt_plan *p, kt
     if (inc->paired && inc->arc > 180.0)
         return kt_yml_fail(y, kt_yml_get(y, n, "arc"), e, "%s.arc: expected at most 180 deg for a "
                            "paired incision (the two arcs would overlap), found %g deg", what, inc->arc);
+    yaml_node_t *ao = kt_yml_get(y, n, "arc_opposite");
+    if (ao && !inc->paired)
+        return kt_yml_fail(y, ao, e, "%s.arc_opposite: expected only with paired: true", what);
+    if (ao && kt_yml_key_quantity(y, n, what, "arc_opposite", KT_UNIT_ANGLE, (kt_yml_bounds){0, 180, 1, 0},
+                                  &inc->arc_opposite, e))
+        return e->code;
     yaml_node_t *pr = kt_yml_get(y, n, "progression");
     snprintf(w, sizeof w, "%s.progression", what);
     if (pr && parse_progression(y, pr, w, &inc->prog, e)) return e->code;

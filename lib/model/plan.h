@@ -42,6 +42,8 @@ typedef struct kt_incision {
     char surface[KT_NAME_MAX];  /* the incision-ready surface; empty when the scene has no ring
                                  * at that diameter: the cut is then snapped onto the cylinder */
     int paired;                 /* 1: also the opposite arc (meridian + 180) */
+    double arc_opposite;        /* paired: the opposite arc's extent, deg (0: the same as arc);
+                                 * it grows in proportion, reaching it when arc is reached */
     int direction;              /* KT_BLADE_* */
     kt_progression prog;        /* the plan's progression unless the incision has its own */
     kt_mark at, at_depth, at_position;

@@ -269,8 +269,8 @@ static void eye_diagram(FILE *f, const kt_report *r)
         ring = in->diameter;
         kt_svg_circle(f, C, C, 0.5 * in->diameter * s, "ring");
         for (int side = 0; side <= in->paired; side++) {
-            double m = in->meridian + 180 * side;
-            kt_svg_arc(f, C, C, 0.5 * in->diameter * s, m - 0.5 * in->arc, m + 0.5 * in->arc, "inc");
+            double m = in->meridian + 180 * side, a = side && in->arc_opposite > 0 ? in->arc_opposite : in->arc;
+            kt_svg_arc(f, C, C, 0.5 * in->diameter * s, m - 0.5 * a, m + 0.5 * a, "inc");
         }
     }
     if (!isnan(ring))
@@ -297,8 +297,12 @@ static void plan_section(FILE *f, const kt_report *r)
         const kt_incision *in = r->plan->inc + i;
         fprintf(f, "<tr><td>%d%s</td>", i + 1, in->paired ? " (paired)" : "");
         fprintf(f, "<td class=\"n\">%.0f&deg;%s</td>", in->meridian, in->paired ? " and opposite" : "");
-        fprintf(f, "<td class=\"n\">%.0f&deg; (arc length %.2f mm, chord %.2f mm)</td>", in->arc,
+        fprintf(f, "<td class=\"n\">%.0f&deg; (arc length %.2f mm, chord %.2f mm)", in->arc,
                 in->arc * DEG * 0.5 * in->diameter, in->diameter * sin(0.5 * in->arc * DEG));
+        if (in->paired && in->arc_opposite > 0)
+            fprintf(f, "; opposite %.1f&deg; (chord %.2f mm)", in->arc_opposite,
+                    in->diameter * sin(0.5 * in->arc_opposite * DEG));
+        fputs("</td>", f);
         fprintf(f, "<td class=\"n\">%.1f mm</td>", in->diameter);
         if (in->depth_fraction > 0) fprintf(f, "<td class=\"n\">%.0f%%</td>", 100 * in->depth_fraction);
         else fprintf(f, "<td class=\"n\">%.0f &micro;m</td>", 1000 * in->depth);

@@ -116,3 +116,94 @@ int kt_surffit_pachymetry(const kt_pentacam_map *m, double cx, double cy, double
     free(xyz);
     return rc;
 }
+
+/* Solve the n x n system A x = b in place (Gaussian elimination, partial pivoting, n <= 8);
+ * -1 when singular. */
+static int solve_n(int n, double A[8][8], double b[8], double x[8])
+{
+    for (int c = 0; c < n; c++) {
+        int p = c;
+        for (int r = c + 1; r < n; r++)
+            if (fabs(A[r][c]) > fabs(A[p][c])) p = r;
+        if (fabs(A[p][c]) < 1e-300) return -1;
+        for (int k = 0; k < n; k++) {
+            double t = A[c][k];
+            A[c][k] = A[p][k], A[p][k] = t;
+        }
+        double t = b[c];
+        b[c] = b[p], b[p] = t;
+        for (int r = c + 1; r < n; r++) {
+            double f = A[r][c] / A[c][c];
+            for (int k = c; k < n; k++) A[r][k] -= f * A[c][k];
+            b[r] -= f * b[c];
+        }
+    }
+    for (int r = n - 1; r >= 0; r--) {
+        double s = b[r];
+        for (int k = r + 1; k < n; k++) s -= A[r][k] * x[k];
+        x[r] = s / A[r][r];
+    }
+    return 0;
+}
+
+/* The fitted biconic's sag at (x, y) (mm, >= 0 towards the eye); NAN outside its domain. */
+static double biconic_sag(const kt_surffit *f, double x, double y)
+{
+    double t = f->axis * KT_CURV_PI / 180, c = cos(t), sn = sin(t);
+    double dx = x - f->ax, dy = y - f->ay, u = c * dx + sn * dy, v = -sn * dx + c * dy;
+    double cs = 1 / f->r_steep, cf = 1 / f->r_flat;
+    double q1 = cs * u * u + cf * v * v, q2 = cs * cs * u * u + cf * cf * v * v, w = 1 - (1 + f->conic) * q2;
+    return w > 0 ? q1 / (1 + sqrt(w)) : NAN;
+}
+
+/* What one half-meridian adds to the fitted biconic's power: the fit's residual (cells minus
+ * biconic) within the wedge around direction phi (deg), 0.3 ... 1.7 mm from the fitted apex,
+ * least squares z = z0 + t r + c r^2 + b r^3 + d r^4; its axial power 337.5 (2c + 3b r + 4d r^2)
+ * (small slopes; the tilt t is the residual's slope at the apex, where the biconic's is zero,
+ * not power), averaged over r = 0.5 ... 1.5 mm (the 3 mm zone of a keratometer). */
+static int half_power(const kt_pentacam_map *m, const kt_surffit *fit, double phi, double *k, int *np, kt_err *e)
+{
+    double A[8][8] = {{0}}, b[8] = {0}, x[8];
+    int n = 0;
+    for (int j = 0; j < m->n; j++)
+        for (int i = 0; i < m->n; i++) {
+            double v = m->v[j * m->n + i], gx = kt_pentacam_coord(i), gy = kt_pentacam_coord(j);
+            double dx = gx - fit->ax, dy = gy - fit->ay, r = hypot(dx, dy);
+            if (isnan(v) || r < 0.3 || r > 1.7) continue;
+            double d = remainder(atan2(dy, dx) * 180 / KT_CURV_PI - phi, 360.0);
+            if (fabs(d) > KT_SURFFIT_HALF_WEDGE) continue;
+            double z = v - biconic_sag(fit, gx, gy);
+            if (isnan(z)) continue;
+            double p[5] = {1, r, r * r, r * r * r, r * r * r * r};
+            for (int a = 0; a < 5; a++) {
+                b[a] += p[a] * z;
+                for (int c = 0; c < 5; c++) A[a][c] += p[a] * p[c];
+            }
+            n++;
+        }
+    if (n < 20 || solve_n(5, A, b, x) != 0)
+        return kt_fail(e, KT_ERUN, "only %d elevation cells on the half-meridian at %.0f deg (0.3 ... 1.7 mm from the apex): "
+                       "too few for its power", n, phi);
+    double sum = 0;
+    int ns = 0;
+    for (double r = 0.5; r <= 1.5 + 1e-9; r += 0.05, ns++) sum += 2 * x[2] + 3 * x[3] * r + 4 * x[4] * r * r;
+    *k = 337.5 * sum / ns;
+    *np += n;
+    return KT_OK;
+}
+
+int kt_surffit_halves(const kt_pentacam_map *m, const kt_surffit *fit, kt_halfmer *out, kt_err *e)
+{
+    double kf1, kf2;
+    out->npts = 0;
+    out->axis = fit->axis;
+    if (half_power(m, fit, fit->axis, &out->k_a, &out->npts, e) || half_power(m, fit, fit->axis + 180, &out->k_b, &out->npts, e) ||
+        half_power(m, fit, fit->axis + 90, &kf1, &out->npts, e) || half_power(m, fit, fit->axis + 270, &kf2, &out->npts, e))
+        return e->code;
+    double ks = 337.5 / fit->r_steep, kf = 337.5 / fit->r_flat;
+    out->k_a += ks, out->k_b += ks;
+    out->k_flat = kf + 0.5 * (kf1 + kf2);
+    if (!(isfinite(out->k_a) && isfinite(out->k_b) && isfinite(out->k_flat)))
+        return kt_fail(e, KT_ERUN, "the half-meridian powers are not finite");
+    return KT_OK;
+}

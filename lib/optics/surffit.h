@@ -28,6 +28,22 @@ typedef struct kt_surffit {
  * around the fitted apex. Fewer than 12 measured cells there is KT_ERUN. */
 int kt_surffit_elevation(const kt_pentacam_map *m, double zone_d, kt_surffit *out, kt_err *e);
 
+/* The half-meridian powers (keratome-patient(5), UNEQUAL PAIRED ARCS), keratometric index:
+ * the fitted biconic's apex power of the meridian (the same on both halves) plus what each half
+ * adds: the axial power of the fit's residual on that half, about the fitted apex, averaged over
+ * the 3 mm keratometry zone (r = 0.5 ... 1.5 mm): the residual of the cells within
+ * KT_SURFFIT_HALF_WEDGE deg of the half-meridian, 0.3 ... 1.7 mm out, fitted as
+ * z = z0 + t r + c r^2 + b r^3 + d r^4, the tilt t left out. A biconic has k_a = k_b. */
+#define KT_SURFFIT_HALF_WEDGE 15.0
+typedef struct kt_halfmer {
+    double k_a, k_b;            /* D: the steep meridian's half at axis and at axis + 180 */
+    double k_flat;              /* D: the mean of the flat meridian's halves (axis +- 90) */
+    double axis;                /* deg, the steep axis of the fit (0 ... 180) */
+    int npts;                   /* cells used, the four halves together */
+} kt_halfmer;
+
+int kt_surffit_halves(const kt_pentacam_map *m, const kt_surffit *fit, kt_halfmer *out, kt_err *e);
+
 /* Thickness profile t(r) = t0 + t2 r^2 + t4 r^4 (mm, r from (cx, cy)) fitted to the
  * pachymetry map's cells with r <= r_max. */
 typedef struct kt_pachyfit {

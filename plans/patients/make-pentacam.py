@@ -4,7 +4,11 @@
 biconic pair (with-the-rule, 1.75 D, aspheric) and a pachymetry map, on the device's 141 x 141
 grid (-7 ... 7 mm, 0.1 mm), ';'-separated with decimal commas, cells beyond the measured
 disk and a few scattered ones marked -1 or left empty. Closed-form, so the fit is exact:
-  python3 plans/patients/make-pentacam.py plans/patients/pentacam"""
+  python3 plans/patients/make-pentacam.py plans/patients/pentacam
+It also writes {base}-asym-front.csv, the anterior elevation of plans/patients/asym-od.yaml:
+the same biconic plus a coma-like term kappa * u * (u^2 + v^2) along the steep meridian u
+(kappa = -4e-4 / mm^2, about 10 um at 3 mm), which makes the inferior half of the steep
+meridian steeper than the superior half (an asymmetric bow tie)."""
 import math
 import sys
 
@@ -45,3 +49,16 @@ write(f"{base}-back.csv", "Elevation back [mm]", lambda x, y: sag(x, y, *post), 
 write(f"{base}-pachy.csv", "Pachymetry [um]",
       lambda x, y: 1000 * (0.545 + 0.0035 * ((x - 0.04) ** 2 + (y + 0.02) ** 2)
                            + 0.00012 * ((x - 0.04) ** 2 + (y + 0.02) ** 2) ** 2), 6.9)
+
+
+def asym(x, y, kappa=-4e-4):
+    z = sag(x, y, *ant)
+    if z is None:
+        return None
+    t = math.radians(ant[2])
+    dx, dy = x - ant[4], y - ant[5]
+    u = math.cos(t) * dx + math.sin(t) * dy
+    return z + kappa * u * (dx * dx + dy * dy)
+
+
+write(f"{base}-asym-front.csv", "Elevation front [mm]", asym, 6.5)

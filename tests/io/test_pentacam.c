@@ -16,7 +16,7 @@ static void path_of(char *buf, size_t n, const char *name) { snprintf(buf, n, "%
 
 static void test_read(void)
 {
-    synth_surface s = {7.55, 7.80, 95, -0.2, 0.05, -0.03};
+    synth_surface s = {7.55, 7.80, 95, -0.2, 0.05, -0.03, 0};
     const char sep[2] = {';', ','};
     for (int k = 0; k < 2; k++) {
         char p[128];
@@ -59,7 +59,7 @@ static void test_bad(void)
 {
     char good[128], p[128];
     path_of(good, sizeof good, "good.csv");
-    synth_surface s = {7.55, 7.80, 95, -0.2, 0, 0};
+    synth_surface s = {7.55, 7.80, 95, -0.2, 0, 0, 0};
     CHECK(synth_write(good, &s, NULL, ';', 0, 0, 6.5) == 0, "write");
     FILE *f = fopen(good, "r");
     char *text = calloc(1, 1 << 21);
