@@ -227,11 +227,26 @@ static void astig_add(double m1, double a1, double m2, double a2, double *mag, d
     *ax = sum.mag > 1e-9 ? sum.axis : 0;
 }
 
+double kt_nomo_pre(const kt_nomo_query *q, double *axis)
+{
+    double mag, ax;
+    astig_add(q->k_steep - q->k_flat, q->axis, q->main_sia, q->main_axis, &mag, &ax);
+    if (mag <= 1e-9) ax = q->axis;
+    *axis = fmod(fmod(ax, 180) + 180, 180);
+    return mag;
+}
+
+void kt_nomo_ages(const kt_nomo *t, double *lo, double *hi)
+{
+    *lo = INFINITY, *hi = -INFINITY;
+    for (int i = 0; i < t->n; i++) *lo = fmin(*lo, t->c[i].age), *hi = fmax(*hi, t->c[i].age);
+}
+
 static void answer_one(const kt_nomo *t, const kt_nomo_query *q, int n, double depth,
                        double diameter, kt_nomo_answer *a)
 {
     const kt_nomo_case *elo, *ehi, *near;
-    double w, cyl = q->k_steep - q->k_flat;
+    double w, axis, cyl = kt_nomo_pre(q, &axis);
     memset(a, 0, sizeof *a);
     if (!pick_eyes(t, n, depth, diameter, cyl, q->age, &elo, &ehi, &w)) return;
     double arcs[512];
@@ -262,8 +277,8 @@ static void answer_one(const kt_nomo *t, const kt_nomo_query *q, int n, double d
     }
     /* the SIA's axis relative to the incised meridian, from the nearest simulated case */
     sia_at(t, elo->eye, n, depth, diameter, a->arc, &near);
-    double sia_axis = near ? q->axis + (near->sia_axis - near->axis) : q->axis + 90;
-    astig_add(cyl, q->axis, a->sia, sia_axis, &a->residual, &a->residual_axis);
+    double sia_axis = near ? axis + (near->sia_axis - near->axis) : axis + 90;
+    astig_add(cyl, axis, a->sia, sia_axis, &a->residual, &a->residual_axis);
 }
 
 int kt_nomo_plan(const kt_nomo *t, const kt_nomo_query *q, kt_nomo_answer ans[2], kt_err *e)

@@ -32,6 +32,12 @@ typedef struct kt_nomo {
 #define KT_NOMO_K_MIN 30.0
 #define KT_NOMO_K_MAX 70.0
 #define KT_NOMO_CYL_MAX 10.0
+/* The cylinder LRIs treat: about 0.5 to 3.0 D, the range of the LRI nomograms (Nichamin 2006,
+ * docs/references.md [7]); outside it lri-nomogram answers with a warning on stderr. */
+#define KT_NOMO_LRI_MIN 0.5
+#define KT_NOMO_LRI_MAX 3.0
+/* The table lri-nomogram reads when none is given: the quick nomogram study's (share/). */
+#define KT_NOMO_DEFAULT "nomogram/nomogram.tsv"
 
 /* Limits of a table: bytes in one line (its end included), cases. */
 #define KT_NOMO_MAX_LINE 65536
@@ -46,10 +52,13 @@ void kt_nomo_free(kt_nomo *t);
 /* The question. depth and diameter <= 0: the deepest depth and the most frequent diameter of
  * the table's cases. */
 typedef struct kt_nomo_query {
-    double k_steep, k_flat, axis; /* D, D, deg */
+    double k_steep, k_flat, axis; /* D, D, deg: the keratometry */
     double age;                   /* years */
     double target;                /* the cylinder to correct, D */
     double depth, diameter;
+    double main_sia, main_axis;   /* the main incision's SIA vector, D and deg (0: none): it is
+                                     added to the keratometric astigmatism by double-angle sum,
+                                     and the arcs correct the sum (centred on its steep axis) */
 } kt_nomo_query;
 
 /* The answer for one incision count. */
@@ -70,5 +79,12 @@ typedef struct kt_nomo_answer {
 /* Answer q from t for one incision and for a pair: ans[0] one, ans[1] a pair. Returns KT_OK,
  * or KT_EINPUT when the query is out of range or the table has no usable case. */
 int kt_nomo_plan(const kt_nomo *t, const kt_nomo_query *q, kt_nomo_answer ans[2], kt_err *e);
+
+/* The astigmatism the arcs correct: the keratometric cylinder (K steep - K flat at axis) plus
+ * the main incision's SIA vector; *axis its steep axis, [0, 180). */
+double kt_nomo_pre(const kt_nomo_query *q, double *axis);
+
+/* The table's range of simulated ages, years (min, max). */
+void kt_nomo_ages(const kt_nomo *t, double *lo, double *hi);
 
 #endif

@@ -48,7 +48,7 @@ static void test_closed_forms(const char *path)
     CHECK(t.n == 4 * 2 * 6 + 6, "%d cases", t.n);
     kt_nomo_answer a[2];
     /* age 66: between 60 and 75, weight 0.4; SIA linear in age, so the interpolation is exact */
-    kt_nomo_query q = {44.0, 42.5, 90, 66, 1.5, 0, 0};
+    kt_nomo_query q = {44.0, 42.5, 90, 66, 1.5, 0, 0, 0, 0};
     CHECK(kt_nomo_plan(&t, &q, a, &e) == KT_OK, "%s", e.msg);
     double g2 = 0.6 * g(60, 2) + 0.4 * g(75, 2);
     CHECK(a[1].incisions == 2 && a[1].reached, "pair reached");
@@ -66,21 +66,21 @@ static void test_closed_forms(const char *path)
     CHECK_NEAR(a[0].residual_axis, 90, 1e-9, "single: residual stays at the steep axis");
 
     /* a 3 D eye at 60 y: the 3 D simulated eye is the one used (10% more SIA) */
-    kt_nomo_query q3 = {45.0, 42.0, 90, 60, 1.2, 0, 0};
+    kt_nomo_query q3 = {45.0, 42.0, 90, 60, 1.2, 0, 0, 0, 0};
     CHECK(kt_nomo_plan(&t, &q3, a, &e) == KT_OK, "%s", e.msg);
     CHECK_NEAR(a[1].arc, 1.2 / (1.1 * g(60, 2)), 1e-9, "3 D: the 3 D eye's curve");
     CHECK(a[1].age_lo == 60 && a[1].age_hi == 60, "one age");
 
     /* an oblique eye (axis 30) with a partial target: the SIA axis turns with the incisions
      * (0 - 90 + 30 = 120 deg); residual = 2 D @ 30 + 1 D @ 120 = 1 D @ 30 */
-    kt_nomo_query qo = {44.0, 42.0, 30, 60, 1.0, 0, 0};
+    kt_nomo_query qo = {44.0, 42.0, 30, 60, 1.0, 0, 0, 0, 0};
     CHECK(kt_nomo_plan(&t, &qo, a, &e) == KT_OK, "%s", e.msg);
     CHECK_NEAR(a[1].arc, 1.0 / g(60, 2), 1e-9, "oblique: arc");
     CHECK_NEAR(a[1].residual, 1.0, 1e-9, "oblique: residual magnitude");
     CHECK_NEAR(a[1].residual_axis, 30, 1e-6, "oblique: residual axis");
 
     /* depth 0.6: only the 60 y eye has it, so age 30 clamps to 60 y */
-    kt_nomo_query qy = {44.0, 43.0, 90, 30, 0.05, 0.6, 0};
+    kt_nomo_query qy = {44.0, 43.0, 90, 30, 0.05, 0.6, 0, 0, 0};
     CHECK(kt_nomo_plan(&t, &qy, a, &e) == KT_OK, "%s", e.msg);
     CHECK(a[1].age_lo == 60 && a[1].age_hi == 60, "clamped to 60");
     CHECK(a[0].incisions == 0, "no single at depth 0.6");
@@ -88,15 +88,15 @@ static void test_closed_forms(const char *path)
     CHECK(a[1].arc_lo == 45 && a[1].arc_hi == 60, "between 45 and 60");
 
     /* below the table's ages: clamped to 45 y */
-    kt_nomo_query qc = {44.0, 42.5, 90, 30, 1.0, 0, 0};
+    kt_nomo_query qc = {44.0, 42.5, 90, 30, 1.0, 0, 0, 0, 0};
     CHECK(kt_nomo_plan(&t, &qc, a, &e) == KT_OK, "%s", e.msg);
     CHECK(a[1].age_lo == 45 && a[1].age_hi == 45, "clamped to 45");
     CHECK_NEAR(a[1].arc, 1.0 / g(45, 2), 1e-9, "45 y arc");
 
     /* bad queries */
-    kt_nomo_query qb = {42.0, 44.0, 90, 60, 1, 0, 0};
+    kt_nomo_query qb = {42.0, 44.0, 90, 60, 1, 0, 0, 0, 0};
     CHECK(kt_nomo_plan(&t, &qb, a, &e) == KT_EINPUT, "steep < flat refused");
-    kt_nomo_query qd = {44.0, 42.5, 90, 60, 1, 0.3, 0};
+    kt_nomo_query qd = {44.0, 42.5, 90, 60, 1, 0.3, 0, 0, 0};
     e.code = 0;
     CHECK(kt_nomo_plan(&t, &qd, a, &e) == KT_EINPUT && strstr(e.msg, "no case"), "%s", e.msg);
     kt_nomo_free(&t);
@@ -130,11 +130,38 @@ static void test_bad_tables(void)
     expect_refused(h, "bad.tsv:2:1: expected a case");
 }
 
+/* The main incision's SIA vector: 1.5 D @ 90 plus 0.5 D @ 0 is 1.0 D @ 90, so the answer is
+ * the one for a 1.0 D eye at 90 without it; an oblique SIA turns the axis the arcs are centred
+ * on (1.5 @ 90 + 1.5 @ 45: 2.12 D @ 67.5). */
+static void test_main_sia(const char *path)
+{
+    kt_err e = {0};
+    kt_nomo t;
+    CHECK(kt_nomo_read(&t, path, &e) == KT_OK, "%s", e.msg);
+    kt_nomo_query qs = {44.0, 42.5, 90, 66, 1.0, 0, 0, 0.5, 0}, q1 = {43.5, 42.5, 90, 66, 1.0, 0, 0, 0, 0};
+    double ax, pre = kt_nomo_pre(&qs, &ax);
+    CHECK(fabs(pre - 1.0) < 1e-12 && fabs(ax - 90) < 1e-9, "1.5 @ 90 + 0.5 @ 0 = %.15g @ %.15g", pre, ax);
+    kt_nomo_answer a[2], b[2];
+    CHECK(kt_nomo_plan(&t, &qs, a, &e) == KT_OK && kt_nomo_plan(&t, &q1, b, &e) == KT_OK, "%s", e.msg);
+    for (int n = 0; n < 2; n++)
+        CHECK(fabs(a[n].arc - b[n].arc) < 1e-9 && fabs(a[n].residual - b[n].residual) < 1e-9,
+              "%d incisions: with the SIA vector %.4f deg / %.4f D, as the 1.0 D eye %.4f deg / %.4f D", n + 1, a[n].arc,
+              a[n].residual, b[n].arc, b[n].residual);
+    kt_nomo_query qo = {44.0, 42.5, 90, 66, 0, 0, 0, 1.5, 45};
+    pre = kt_nomo_pre(&qo, &ax);
+    CHECK(fabs(pre - 1.5 * sqrt(2)) < 1e-12 && fabs(ax - 67.5) < 1e-9, "1.5 @ 90 + 1.5 @ 45 = %.15g @ %.15g", pre, ax);
+    double lo, hi;
+    kt_nomo_ages(&t, &lo, &hi);
+    CHECK(lo == 45 && hi == 75, "the table's ages %g-%g", lo, hi);
+    kt_nomo_free(&t);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/kt_nomo_XXXXXX");
     if (!mkdtemp(dir)) return 1;
     test_closed_forms(write_table());
+    test_main_sia(write_table());
     test_bad_tables();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
