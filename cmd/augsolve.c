@@ -38,6 +38,8 @@ static const char *USAGE =
     "                        predicted nonzeros exceed R times METIS's on the intact block\n"
     "                        (default 4; 0: never) or its flops those of a fresh\n"
     "                        factorization at every step\n"
+    "  --plan-panel N        planned: store the increments' block in panels of N columns\n"
+    "                        (default 256; 0: CHOLMOD's own supernodes, one square)\n"
     "  --verify              also factor K from scratch each step and compare\n"
     "  --verify-tol T        largest accepted relative difference (default 1e-8)\n"
     "  --no-vtk              write no step VTKs (benchmarks)\n"
@@ -60,7 +62,7 @@ static int usage_error(const char *msg, const char *arg)
 
 enum { O_SCENE = 256, O_METHOD, O_TOL, O_RESTART, O_MAXIT, O_PRECOND, O_ORDERING, O_FACTOR,
        O_REFACTOR, O_SYNC, O_OUTPUT, O_VERIFY, O_VTOL, O_NOVTK, O_BINARY, O_STEPS,
-       O_MAXRATIO };
+       O_MAXRATIO, O_PANEL };
 
 /* One option; returns 0, or the exit code of a usage error. */
 static int option(int c, const char *arg, kt_aug_run_opts *o)
@@ -102,6 +104,9 @@ static int option(int c, const char *arg, kt_aug_run_opts *o)
     case O_MAXRATIO:
         return kt_parse_number(arg, &o->plan_max_ratio) || !(o->plan_max_ratio >= 0)
                    ? usage_error("--plan-max-ratio expects a number >= 0", arg) : 0;
+    case O_PANEL:
+        return kt_parse_int(arg, &a->plan_panel) || a->plan_panel < 0
+                   ? usage_error("--plan-panel expects an integer >= 0", arg) : 0;
     }
     return usage_error("unknown or incomplete option", arg);
 }
@@ -120,6 +125,7 @@ static int tool_main(int argc, char **argv)
         {"no-vtk", no_argument, NULL, O_NOVTK}, {"binary", no_argument, NULL, O_BINARY},
         {"steps", required_argument, NULL, O_STEPS},
         {"plan-max-ratio", required_argument, NULL, O_MAXRATIO},
+        {"plan-panel", required_argument, NULL, O_PANEL},
         {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
     kt_aug_run_opts o;

@@ -15,6 +15,7 @@ void kt_aug_opts_default(kt_aug_opts *o)
     o->tol = 1e-10;
     o->maxit = 0;
     o->verify_tol = 1e-8;
+    o->plan_panel = KT_AUG_PLAN_PANEL;
 }
 
 kt_aug_problem kt_aug_problem_of(const kt_mesh *m, const kt_fem_problem *fp)

@@ -41,6 +41,8 @@ typedef struct kt_aug_opts {
                         * ||r|| / (|| |A||x| || + ||b||); CG: relative residual
                         * ||(K u - f)_free|| / ||f_free|| */
     int maxit;         /* CG iteration cap; 0: 20000 */
+    int plan_panel;    /* planned: columns of the panels the increments' block is stored in
+                        * (KT_AUG_PLAN_PANEL; 0: CHOLMOD's own supernodes) */
     /* the front door's (solver.h), for every method; kt_aug itself reads none of them: */
     int verify;        /* also factor the current K from scratch each step and compare */
     double verify_tol; /* exit 1 beyond this relative difference */
@@ -49,7 +51,13 @@ typedef struct kt_aug_opts {
     int quiet;
 } kt_aug_opts;
 
-/* tol 1e-10, natural ordering, supernodal, verify-tol 1e-8. */
+/* Default of kt_aug_opts.plan_panel (aug_plan_factor.c, split_panels): the stored lower
+ * triangle of the increments' block wastes at most half a panel a column, CHOLMOD's update
+ * workspace holds a panel's width times the rows below it, and the BLAS 3 updates between
+ * panels stay efficient from a few hundred columns on. */
+#define KT_AUG_PLAN_PANEL 256
+
+/* tol 1e-10, natural ordering, supernodal, verify-tol 1e-8, panels KT_AUG_PLAN_PANEL. */
 void kt_aug_opts_default(kt_aug_opts *o);
 
 /* Option words of the tool; 0 on success, -1 for a word not in the list. */

@@ -74,6 +74,14 @@ typedef struct kt_plan_factor {
     double t_assemble, t_order, t_factor, nnzL;
     double lnz_ref, fl_ref;     /* predicted nonzeros and flops of METIS on the intact block */
     double lnz_plan, fl_plan;   /* predicted for the planned order */
+    /* Where the planned factor's flops and values go (supernodal analysis; kt_plan_factor_build):
+     * K: the intact columns' intact rows (chol of the intact block); W: the intact columns'
+     * increment rows (L21 = (L_K^-1 C)^T and its updates of the increments' block); S: the
+     * increments' columns (the Schur complement's factor). fl_*: sum of squared column counts
+     * (CHOLMOD's flop measure); x_*: stored values (supernodes are full rectangles). nsuper,
+     * root_cols: supernodes, columns of the last one. */
+    double fl_K, fl_W, fl_S, x_K, x_W, x_S;
+    int nsuper, root_cols;
     int refused;                /* 1: the planned factor is too large (why), not factored */
     char why[256];
 } kt_plan_factor;
@@ -92,9 +100,15 @@ typedef struct kt_plan_factor {
  * factorizations of it (max_ratio <= 0, or the natural order: no check), nothing is factored:
  * F->refused = 1 and F->why says so (the caller falls back). */
 int kt_plan_factor_build(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
-                         const kt_materials *mats, int ordering, int factor, double max_ratio,
-                         kt_err *e);
+                         const kt_materials *mats, int ordering, int factor, int panel,
+                         double max_ratio, kt_err *e);
 void kt_plan_factor_free(kt_plan_factor *F);
+/* Split every supernode of the symbolic supernodal factor L that holds a column >= nK into
+ * panels of width columns, each with the supernode's rows from its first column on (a finer
+ * supernodal partition of the same L: the dense trailing block is then stored lower, in
+ * panels); CHOLMOD's workspace sizes follow. width <= 0 or a simplicial L: nothing. Before
+ * cholmod_factorize; c is L's common. */
+int kt_plan_split_panels(cholmod_factor *L, int nK, int width, cholmod_common *c, kt_err *e);
 
 /* Substitutions on the factor in place (aug_plan_subst.c), vectors in L's numbering; work
  * holds F->maxrow values of scratch.

@@ -4,6 +4,7 @@
  * factored once. */
 #include "aug_plan.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -232,8 +233,128 @@ static void size_check(kt_plan_factor *F, double max_ratio, int nsteps)
              F->lnz_plan, F->fl_plan, rl, rf, F->lnz_ref, F->fl_ref, max_ratio, nsteps + 1);
 }
 
-static int factorize(kt_plan_factor *F, const int *P, int factor, double max_ratio, int nsteps,
-                     kt_err *e)
+/* F->fl_* and F->x_*: the planned factor's flops and values by part (aug_plan.h). */
+static void breakdown(kt_plan_factor *F)
+{
+    const cholmod_factor *L = F->L;
+    if (!L->is_super) return;
+    const int *S = L->super, *pi = L->pi, *Ls = L->s;
+    int ns = (int)L->nsuper;
+    F->nsuper = ns;
+    F->root_cols = ns ? S[ns] - S[ns - 1] : 0;
+    for (int s = 0; s < ns; s++) {
+        int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s], rm = 0;
+        for (int q = pi[s]; q < pi[s + 1]; q++) rm += Ls[q] >= F->nK;
+        for (int j = 0; j < nscol; j++) {
+            double c = nsrow - j, cm = rm; /* increment rows lie below every intact column */
+            if (k1 + j >= F->nK) {
+                F->fl_S += c * c;
+                F->x_S += nsrow;
+            } else {
+                double ci = c - cm;
+                F->fl_K += ci * ci;
+                F->fl_W += c * c - ci * ci;
+                F->x_K += nsrow - rm;
+                F->x_W += rm;
+            }
+        }
+    }
+}
+
+/* The increments' block in panels (aug_plan.h). CHOLMOD's analysis makes the dense trailing block (the
+ * increments, with the intact separator columns whose rows hold all of them) one supernode, a
+ * full square of which only the lower triangle is used, and sizes its update workspace by the
+ * largest contribution to it (maxcsize: an intact supernode's increment rows, squared). Split
+ * every supernode holding an increment column into panels of KT_PLAN_PANEL columns, each keeping
+ * the rows of the supernode from its first column on (a suffix of the supernode's sorted row
+ * list: a panel is a supernode of its own, the next panel its parent): the block is then stored
+ * lower, in panels, wasting at most half a panel's square per panel, and the largest update is
+ * a panel's width by the rows below. The columns, their rows and the numbers are unchanged (the
+ * same factorization: the panels are a finer supernodal partition of the same L). */
+int kt_plan_split_panels(cholmod_factor *L, int nK, int width, cholmod_common *c, kt_err *e)
+{
+    if (!L->is_super || width <= 0) return KT_OK;
+    const int *S = L->super, *pi = L->pi, *Ls = L->s;
+    int ns = (int)L->nsuper, ns2 = 0;
+    size_t ssize = 0, xsize = 0;
+    for (int s = 0; s < ns; s++) {
+        int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
+        int w = S[s + 1] > nK ? width : nscol;
+        for (int a = 0; a < nscol; a += w) {
+            int b = a + w < nscol ? a + w : nscol;
+            ns2++;
+            ssize += (size_t)(nsrow - a);
+            xsize += (size_t)(b - a) * (size_t)(nsrow - a);
+        }
+    }
+    if (ns2 == ns) return KT_OK;
+    if (xsize > (size_t)INT_MAX)
+        return kt_fail(e, KT_ERUN, "the planned factor's values (%zu) overflow CHOLMOD's int "
+                       "indices", xsize);
+    int *S2 = cholmod_malloc((size_t)ns2 + 1, sizeof(int), c);
+    int *pi2 = cholmod_malloc((size_t)ns2 + 1, sizeof(int), c);
+    int *px2 = cholmod_malloc((size_t)ns2 + 1, sizeof(int), c);
+    int *Ls2 = cholmod_malloc(ssize, sizeof(int), c);
+    int *piece = cholmod_malloc((size_t)L->n + 1, sizeof(int), c); /* column -> panel */
+    if (!S2 || !pi2 || !px2 || !Ls2 || !piece) {
+        cholmod_free((size_t)ns2 + 1, sizeof(int), S2, c);
+        cholmod_free((size_t)ns2 + 1, sizeof(int), pi2, c);
+        cholmod_free((size_t)ns2 + 1, sizeof(int), px2, c);
+        cholmod_free(ssize, sizeof(int), Ls2, c);
+        cholmod_free((size_t)L->n + 1, sizeof(int), piece, c);
+        return kt_fail(e, KT_ERUN, "out of memory splitting the planned factor into panels");
+    }
+    int t = 0, ps = 0, px = 0;
+    for (int s = 0; s < ns; s++) {
+        int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
+        int w = S[s + 1] > nK ? width : nscol;
+        for (int a = 0; a < nscol; a += w, t++) {
+            int b = a + w < nscol ? a + w : nscol;
+            S2[t] = k1 + a;
+            pi2[t] = ps;
+            px2[t] = px;
+            for (int q = pi[s] + a; q < pi[s + 1]; q++) Ls2[ps++] = Ls[q];
+            px += (b - a) * (nsrow - a);
+            for (int j = k1 + a; j < k1 + b; j++) piece[j] = t;
+        }
+    }
+    S2[ns2] = (int)L->n;
+    pi2[ns2] = ps;
+    px2[ns2] = px;
+    /* CHOLMOD's workspace sizes for the new partition: the largest update (rows of a supernode
+     * in an ancestor's columns times its rows from there on) and the largest row count below a
+     * supernode's own columns (the solves' E). */
+    size_t maxcsize = 1, maxesize = 1;
+    for (int d = 0; d < ns2; d++) {
+        int p = pi2[d] + S2[d + 1] - S2[d], pend = pi2[d + 1];
+        if ((size_t)(pend - p) > maxesize) maxesize = (size_t)(pend - p);
+        while (p < pend) {
+            int a = piece[Ls2[p]], q = p;
+            while (q < pend && piece[Ls2[q]] == a) q++;
+            size_t cs = (size_t)(q - p) * (size_t)(pend - p);
+            if (cs > maxcsize) maxcsize = cs;
+            p = q;
+        }
+    }
+    cholmod_free((size_t)L->n + 1, sizeof(int), piece, c);
+    cholmod_free(L->nsuper + 1, sizeof(int), L->super, c);
+    cholmod_free(L->nsuper + 1, sizeof(int), L->pi, c);
+    cholmod_free(L->nsuper + 1, sizeof(int), L->px, c);
+    cholmod_free(L->ssize, sizeof(int), L->s, c);
+    L->super = S2;
+    L->pi = pi2;
+    L->px = px2;
+    L->s = Ls2;
+    L->nsuper = (size_t)ns2;
+    L->ssize = ssize;
+    L->xsize = xsize;
+    L->maxcsize = maxcsize;
+    L->maxesize = maxesize;
+    return KT_OK;
+}
+
+static int factorize(kt_plan_factor *F, const int *P, int factor, int panel, double max_ratio,
+                     int nsteps, kt_err *e)
 {
     F->c.nmethods = 1;
     F->c.method[0].ordering = CHOLMOD_GIVEN;
@@ -247,6 +368,8 @@ static int factorize(kt_plan_factor *F, const int *P, int factor, double max_rat
         if (LP[q] != P[q])
             return kt_fail(e, KT_ERUN, "CHOLMOD did not keep the given order at %d", q);
     size_check(F, max_ratio, nsteps);
+    if (!F->refused && kt_plan_split_panels(F->L, F->nK, panel, &F->c, e)) return e->code;
+    breakdown(F);
     if (F->refused) return KT_OK;
     cholmod_factorize(F->A, F->L, &F->c);
     if (F->c.status == CHOLMOD_NOT_POSDEF || F->L->minor < F->L->n)
@@ -260,8 +383,8 @@ static int factorize(kt_plan_factor *F, const int *P, int factor, double max_rat
 }
 
 int kt_plan_factor_build(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
-                         const kt_materials *mats, int ordering, int factor, double max_ratio,
-                         kt_err *e)
+                         const kt_materials *mats, int ordering, int factor, int panel,
+                         double max_ratio, kt_err *e)
 {
     memset(F, 0, sizeof *F);
     cholmod_start(&F->c);
@@ -272,7 +395,7 @@ int kt_plan_factor_build(kt_plan_factor *F, const kt_edits_plan *p, const kt_mes
     int *P = order(F, ordering, e);
     if (!P) return e->code;
     double t1 = kt_now();
-    if (factorize(F, P, factor, max_ratio, p->nsteps, e) == KT_OK && !F->refused)
+    if (factorize(F, P, factor, panel, max_ratio, p->nsteps, e) == KT_OK && !F->refused)
         kt_plan_subst_init(F);
     free(P);
     F->t_order = t1 - t0;

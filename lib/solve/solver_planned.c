@@ -40,8 +40,13 @@ static int planned_create(void **st, const kt_solver_in *in, char *why, size_t n
     P->quiet = in->o->quiet;
     kt_plan_factor *F = &P->F;
     if (kt_plan_factor_build(F, in->plan, in->final, in->prob->mats, in->o->ordering,
-                             in->o->factor, in->plan_max_ratio, e))
+                             in->o->factor, in->o->plan_panel, in->plan_max_ratio, e))
         goto fail;
+    kt_log(P->quiet, "augsolve: planned: its flops (sum of squared column counts) %.3g: intact "
+           "block %.3g, increment rows of the intact columns %.3g, increments' block %.3g "
+           "(METIS on the intact block %.3g); values %.3g: %.3g, %.3g, %.3g; %d supernodes, the "
+           "last %d columns\n", F->fl_K + F->fl_W + F->fl_S, F->fl_K, F->fl_W, F->fl_S,
+           F->fl_ref, F->x_K + F->x_W + F->x_S, F->x_K, F->x_W, F->x_S, F->nsuper, F->root_cols);
     if (F->refused) {
         snprintf(why, n, "%s", F->why);
         planned_free(P);

@@ -131,8 +131,8 @@ static void check_frobenius(const kt_plan_factor *F, int nsteps, const char *nam
 
 /* Every step of the plan against a fresh factorization (only on the surface group "only" when
  * given: the restricted back substitution); returns the steps checked. */
-static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *only,
-                    int unsorted, const char *name)
+static int run_plan(scenario *s, FILE *f, int ordering, int factor, int panel,
+                    const char *only, int unsorted, const char *name)
 {
     kt_err e = {0};
     kt_edits_plan p;
@@ -146,9 +146,18 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, const char *
     CHECK(p.usable, "%s: plan refused: %s", name, p.why);
     for (int a = p.nn0; a < p.nn; a++) splits2 += p.parent[a] >= p.nn0;
     CHECK(splits2 > 0, "%s: the stream splits no node twice", name);
-    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, ordering, factor, KT_PLAN_MAX_RATIO,
-                               &e) == KT_OK && !F.refused,
+    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, ordering, factor, panel,
+                               KT_PLAN_MAX_RATIO, &e) == KT_OK && !F.refused,
           "%s: factor: %s %s", name, e.msg, F.why);
+    if (F.L->is_super && panel > 0) { /* the increments' block is stored in panels */
+        const int *Sup = F.L->super;
+        int wide = 0;
+        for (size_t q = 0; q < F.L->nsuper; q++)
+            if (Sup[q + 1] > F.nK && Sup[q + 1] - Sup[q] > panel) wide++;
+        CHECK(wide == 0 && F.x_S < (double)(F.nfree - F.nK) * (F.nfree - F.nK + panel),
+              "%s: %d supernodes with increments wider than %d; their values %g", name, wide,
+              panel, F.x_S);
+    }
     if (unsorted) F.rows_sorted = 0; /* the substitutions' path for unsorted row lists */
     CHECK(kt_plan_state_init(&S, &p, &F, &s->prob, &e) == KT_OK, "%s: state: %s", name, e.msg);
     check_frobenius(&F, p.nsteps, name);
@@ -314,7 +323,8 @@ static void check_size_refusal(scenario *s, FILE *f)
               kt_edits_plan_check(&p, "stream", &s->prob, &final, &e) == KT_OK,
           "size: %s", e.msg);
     CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
-                               KT_AUG_FACTOR_SUPERNODAL, 0, &e) == KT_OK && !F.refused,
+                               KT_AUG_FACTOR_SUPERNODAL, KT_AUG_PLAN_PANEL, 0, &e) == KT_OK &&
+              !F.refused,
           "size: no check: %s", e.msg);
     double r = F.lnz_plan / F.lnz_ref, rf = F.fl_plan / F.fl_ref;
     CHECK(r > 1 && rf > 1 && rf <= p.nsteps + 1 && F.lnz_plan >= F.nnzL * 0.999 &&
@@ -323,13 +333,13 @@ static void check_size_refusal(scenario *s, FILE *f)
           F.lnz_ref, F.fl_plan, F.fl_ref);
     kt_plan_factor_free(&F);
     CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
-                               KT_AUG_FACTOR_SUPERNODAL, 0.99 * r, &e) == KT_OK,
+                               KT_AUG_FACTOR_SUPERNODAL, KT_AUG_PLAN_PANEL, 0.99 * r, &e) == KT_OK,
           "size: refusal is no error: %s", e.msg);
     CHECK(F.refused && F.nnzL == 0 && strstr(F.why, "--plan-max-ratio"),
           "size: ratio %g not refused at %g (why '%s')", r, 0.99 * r, F.why);
     kt_plan_factor_free(&F);
     CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, KT_AUG_ORDER_METIS,
-                               KT_AUG_FACTOR_SUPERNODAL, 1.01 * r, &e) == KT_OK &&
+                               KT_AUG_FACTOR_SUPERNODAL, KT_AUG_PLAN_PANEL, 1.01 * r, &e) == KT_OK &&
               !F.refused && F.nnzL > 0,
           "size: ratio %g refused at %g", r, 1.01 * r);
     kt_plan_factor_free(&F);
@@ -346,16 +356,19 @@ int main(void)
     int nsteps = 0;
     CHECK(write_stream(&s, f, &nsteps, &e) == KT_OK, "stream: %s", e.msg);
     CHECK(nsteps == s.nz + 1, "stream: %d steps", nsteps);
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, NULL, 0, "metis supernodal") ==
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, 0, NULL, 0,
+                   "metis supernodal") ==
               nsteps + 1, "metis supernodal: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_NATURAL, KT_AUG_FACTOR_SIMPLICIAL, NULL, 0,
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_NATURAL, KT_AUG_FACTOR_SIMPLICIAL, KT_AUG_PLAN_PANEL, NULL, 0,
                    "natural simplicial") == nsteps + 1, "natural simplicial: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_AMD, KT_AUG_FACTOR_SUPERNODAL, NULL, 0, "amd supernodal") ==
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_AMD, KT_AUG_FACTOR_SUPERNODAL, 3, NULL, 0,
+                   "amd supernodal, panels of 3") ==
               nsteps + 1, "amd supernodal: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, NULL, 1,
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, KT_AUG_PLAN_PANEL, NULL, 1,
                    "metis supernodal, rows read unsorted") == nsteps + 1,
           "metis supernodal, rows read unsorted: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, "zmax", 0, "zmax only") ==
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, 5, "zmax", 0,
+                   "zmax only, panels of 5") ==
               nsteps + 1, "zmax only: not every step checked");
     check_size_refusal(&s, f);
     fclose(f);
