@@ -13,9 +13,7 @@ trap 'rm -rf "$T"' EXIT
 printf 'leak:libgmsh.so\n' >"$T/lsan.supp"
 export LSAN_OPTIONS="suppressions=$T/lsan.supp:print_suppressions=0"
 fail=0
-sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.7 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.5 mm/' \
-    -e 's/^    cornea: [0-9.]* mm/    cornea: 0.9 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 3 mm/' \
-    -e '/^    incision_floor:/d' plans/eye.yaml >"$T/eye.yaml"
+bash tests/lib/coarse-eye.sh 0.7 0.5 0.9 3 "$T/eye.yaml" || { echo "FAIL could not coarsen the eye"; exit 1; }
 grep -q "reference: prestressed" "$T/eye.yaml" || { echo "FAIL eye.yaml is not prestressed"; exit 1; }
 sed -e "s|^scene:.*|scene: $T/eye.yaml|" -e 's|degrees_per_step:.*|degrees_per_step: 10 deg|' \
     plans/lri-single-30.yaml >"$T/plan.yaml"

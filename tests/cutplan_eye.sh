@@ -15,12 +15,8 @@ fail=0
 printf 'leak:libgmsh.so\n' > "$tmp/lsan.supp"
 export LSAN_OPTIONS="suppressions=$tmp/lsan.supp:print_suppressions=0"
 # (P1, as this test was written for: the cut's topology does not depend on the order)
-sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.6 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.3 mm/' \
-    -e 's/^    cornea: [0-9.]* mm/    cornea: 0.8 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 2.5 mm/' \
-    -e '/^    incision_floor:/d' \
-    -e 's/^order: 2 /order: 1 /' plans/eye.yaml > "$tmp/eye.yaml"
+bash tests/lib/coarse-eye.sh --order 1 0.6 0.3 0.8 2.5 "$tmp/eye.yaml" || { echo "FAILED: could not coarsen the eye"; exit 1; }
 cp plans/lri-paired-60.yaml "$tmp/plan.yaml"
-grep -q "incision: 0.3 mm" "$tmp/eye.yaml" || { echo "FAILED: could not coarsen the eye"; exit 1; }
 "$build/mesh-prep" -q "$tmp/eye.yaml" -o "$tmp/eye.msh" > /dev/null || { echo "FAILED: mesh-prep"; exit 1; }
 if ! "$build/cutplan" "$tmp/plan.yaml" "$tmp/eye.msh" -o "$tmp/lri.edits" 2> "$tmp/err"; then
     echo "FAILED: cutplan: $(cat "$tmp/err")"; exit 1

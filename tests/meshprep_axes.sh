@@ -14,10 +14,7 @@ trap 'rm -rf "$tmp"' EXIT
 fail=0
 printf 'leak:libgmsh.so\n' > "$tmp/lsan.supp"
 export LSAN_OPTIONS="suppressions=$tmp/lsan.supp:print_suppressions=0"
-sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.6 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.3 mm/' \
-    -e 's/^    cornea: [0-9.]* mm/    cornea: 0.8 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 2.5 mm/' \
-    -e 's/^    incision_floor: [0-9.]* um/    incision_floor: 100 um/' plans/eye.yaml > "$tmp/base.yaml"
-grep -q "incision_floor: 100 um" "$tmp/base.yaml" && grep -q "^  steep_axis: 90 deg" "$tmp/base.yaml" ||
+bash tests/lib/coarse-eye.sh --floor 100 0.6 0.3 0.8 2.5 "$tmp/base.yaml" && grep -q "^  steep_axis: 90 deg" "$tmp/base.yaml" ||
     { echo "FAILED: could not coarsen the eye"; exit 1; }
 
 cat > "$tmp/check.py" <<'EOF'

@@ -118,9 +118,7 @@ expect "a mesh path over 1023 bytes" 2 "expected a path of at most 1023 bytes" -
 [ ! -e "$T/long.edits" ] && ok "long path: no edits written" || bad "long path: edits written"
 
 # ---- 2. one run per folder (a coarse eye, as tests/cutplan_eye.sh makes it)
-sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.6 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.3 mm/' \
-    -e 's/^    cornea: [0-9.]* mm/    cornea: 0.8 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 2.5 mm/' \
-    -e '/^    incision_floor:/d' -e 's/^order: 2 /order: 1 /' plans/eye.yaml >"$T/eye.yaml"
+bash tests/lib/coarse-eye.sh --order 1 0.6 0.3 0.8 2.5 "$T/eye.yaml" || { echo "FAIL could not coarsen the eye"; exit 1; }
 cp plans/lri-paired-60.yaml plans/lri-paired-30.yaml "$T/"
 "$B/mesh-prep" -q "$T/eye.yaml" -o "$T/eye.msh" >/dev/null || { echo "FAIL eye mesh-prep"; exit 1; }
 R="$T/run"

@@ -7,13 +7,13 @@
 #    the same run an over-correction); the step plot's legend names both meridians and their
 #    angles; the difference legend labels 0 and symmetric values; the eye drawing has S I N T
 #    and OD (OS with --eye OS), a 5 mm bar and no mesh details; a relative-scale row and a
-#    strip with every step's map; run.yaml's provenance shown, and a mesh hash that is not the
-#    mesh's flagged;
+#    strip with every step's map; run.yaml's provenance shown with the run's mesh hash;
 #  - the text summary's arc column; --step N and --arc DEG report that step under its own number
 #    and arc; --mesh with step-0000.vtk step-0003.vtk labels step 3 (it said "step 1, arc 5");
 #    a bad --arc is exit 2 with no output;
-#  - run.yaml's provenance of a real run: the edits' mesh hash, the scene's FNV-1a and text,
-#    its materials, the tool versions, steps.tsv's largest factor and residual;
+#  - run.yaml of a real run: the edits' mesh hash, named once (at the top level, not again in
+#    the provenance block); the scene's FNV-1a and text, its materials, the tool versions,
+#    steps.tsv's largest factor and residual;
 #  - curvature --compare: the two runs' last rows of curvature.tsv in its table.
 set -euo pipefail
 B=$(cd "$1" && pwd)
@@ -42,7 +42,7 @@ grep -q "magnitude: 0.5 D" "$tmp/over.yaml"
 "$B/mesh-prep" -q plans/bench/beam-64.yaml -o "$tmp/beam.msh" > /dev/null
 "$B/cutplan" -q plans/bench/cut-beam-64.yaml "$tmp/beam.msh" -o "$tmp/beam.edits"
 "$B/augsolve" -q "$tmp/beam.msh" "$tmp/beam.edits" -o "$tmp/beam"
-# The synthetic run with a provenance block whose mesh hash is the beam's, not its own mesh's.
+# The synthetic run with a provenance block (the beam's: tools, scene, materials, solver figures).
 sed -n '/^provenance:/,$p' "$tmp/beam/run.yaml" >> "$run/run.yaml"
 "$B/curvature" -q --plan $P --no-png --no-vtk -o "$tmp/prov" "$run" > /dev/null
 
@@ -130,7 +130,9 @@ check(any(l.startswith('verdict: Over-correction') for l in open(tmp + '/over.tx
 ry = yaml.safe_load(open(tmp + '/beam/run.yaml'))
 pv = ry['provenance']
 ed = dict(l.split(None, 1) for l in open(tmp + '/beam.edits') if l.startswith(('hash ', 'scene ')))
-check(pv['mesh_hash'] == ed['hash'].strip(), 'run.yaml mesh_hash = the edits header hash %s' % pv['mesh_hash'])
+check(ry['mesh_hash'] == ed['hash'].strip(), 'run.yaml mesh_hash = the edits header hash %s' % ry['mesh_hash'])
+check(not {'mesh_hash', 'mesh_nodes', 'mesh_tets'} & set(pv) and ry['mesh_nodes'] > 0 and ry['mesh_tets'] > 0,
+      'run.yaml names the mesh once, at its top level (not again in provenance)')
 scene = open('plans/bench/beam-64.yaml', 'rb').read()
 h = 0xcbf29ce484222325
 for b in scene: h = ((h ^ b) * 0x100000001b3) & 0xffffffffffffffff
@@ -146,10 +148,12 @@ res = max(float(r['rel_residual']) for r in st if r['rel_residual'] not in ('-',
 check(abs(pv['solver']['rel_residual_max'] - res) <= 1e-3 * res and res < 1e-8, 'rel_residual_max %.3e' % res)
 check(ry['steps'] == len(st) - 1 and ry['ordering'] == 'metis', 'run.yaml keeps its other keys')
 
-# --- the report shows the provenance, and says when the mesh is not the one recorded
+# --- the report shows the provenance, with the run's own mesh hash (run.yaml's top level)
 q = Page(tmp + '/prov/report.html')
 pt = q.ids.get('provenance', '')
-check('DIFFERS from the mesh read here' in pt and pv['mesh_hash'] in pt, 'report flags a mesh hash that is not the mesh\'s')
+sy = yaml.safe_load(open(run + '/run.yaml'))
+check(sy['mesh_hash'] + ': the mesh read here' in pt and ry['mesh_hash'] not in pt,
+      'report shows the run\'s mesh hash %s, not the provenance donor\'s' % sy['mesh_hash'])
 check('CHOLMOD ' + pv['cholmod'] in pt and 'body: model isotropic, E_MPa 1' in pt and 'factor_nnz_max' in pt,
       'report shows tools, materials and solver figures')
 

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # reproducible.sh BUILD_DIR: the same input gives the same answer, to the last byte, on any
-# thread count. A coarse version of the default eye (plans/eye.yaml with larger element sizes,
+# thread count: the quick look (labels pipeline and reproducible); tests/reproducible/full.sh
+# (ctest reproducible_full) is the check at full size, on the demo and `make quick` as the
+# README runs them. A coarse version of the default eye (plans/eye.yaml with larger element sizes,
 # still order 2 and meshed by the same gmsh calls as the default: the 3D mesher and its options
 # do not depend on the sizes) is taken through
 #   1. mesh-prep twice, once with OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 and once with both 2,
@@ -12,9 +14,7 @@
 #      once with make (ENGINE=local) and once with ENGINE=parallel, on a reduced spec written
 #      here (the coarse eye, paired arcs of 15 and 30 deg: two steps of one run): the two
 #      nomogram.tsv are equal.
-# Why coarse: the demo takes ~75 s a run on its own eye, and `make -C plans/studies/nomogram
-# quick` (the default eye, paired 15-90 deg) took 764 s of wall-clock time here at load 13-15
-# (96 s of CPU), too long to run twice in CI. This test: 3 min 9 s at load ~12 (33 s of CPU).
+# This test: 3 min 9 s at load ~12 (33 s of CPU); the full one takes minutes of CPU.
 set -euo pipefail
 B=$(cd "$1" && pwd)
 cd "$(dirname "$0")/.."
@@ -26,10 +26,7 @@ printf 'leak:libgmsh.so\n' > "$T/lsan.supp"
 export LSAN_OPTIONS="suppressions=$T/lsan.supp:print_suppressions=0"
 fail() { echo "reproducible: FAILED: $*" >&2; exit 1; }
 
-sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.8 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.4 mm/' \
-    -e 's/^    cornea: [0-9.]* mm/    cornea: 1.0 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 2.5 mm/' \
-    -e '/^    incision_floor:/d' plans/eye.yaml > "$T/eye.yaml"
-grep -q "incision: 0.4 mm" "$T/eye.yaml" && grep -q "^order: 2 " "$T/eye.yaml" ||
+bash tests/lib/coarse-eye.sh 0.8 0.4 1.0 2.5 "$T/eye.yaml" && grep -q "^order: 2 " "$T/eye.yaml" ||
     fail "could not coarsen plans/eye.yaml"
 
 # 1. mesh-prep, two thread settings, two folders.

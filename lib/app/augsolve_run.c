@@ -291,8 +291,8 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(a->method),
             r->mesh.order, steps);
     /* what curvature cross-checks: the mesh's content hash and node count, the plan's bytes */
-    fprintf(out.f, "mesh_hash: \"%016" PRIx64 "\"\nmesh_nodes: %d\n", kt_mesh_hash(&r->mesh),
-            r->mesh.nn);
+    fprintf(out.f, "mesh_hash: \"%016" PRIx64 "\"  # kt_mesh_hash: FNV-1a of the nodes and tets\n"
+            "mesh_nodes: %d\nmesh_tets: %d\n", kt_mesh_hash(&r->mesh), r->mesh.nn, r->mesh.ne);
     if (r->has_plan_hash) fprintf(out.f, "plan_hash: \"%016llx\"\n", r->plan_hash);
     static const char *const ORD[] = {"natural", "amd", "metis"};
     kt_newton_opts nl;
@@ -305,7 +305,7 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
     if (kt_solver_fallback(r->sv)) yaml_str(out.f, "fallback", kt_solver_fallback(r->sv));
     if (o->steps) yaml_str(out.f, "written_steps", o->steps);
-    if (kt_runrec_write(out.f, o->run_dir, &r->mesh, &r->scene, e)) return kt_out_abort(&out), e->code;
+    if (kt_runrec_write(out.f, o->run_dir, &r->scene, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
 }
 

@@ -115,7 +115,7 @@ static void scene_text(FILE *f, const char *path)
     fclose(in);
 }
 
-int kt_runrec_write(FILE *f, const char *run_dir, const kt_mesh *mesh, const kt_scene *sc, kt_err *e)
+int kt_runrec_write(FILE *f, const char *run_dir, const kt_scene *sc, kt_err *e)
 {
     uint64_t sh = 0;
     long sn = 0;
@@ -130,8 +130,6 @@ int kt_runrec_write(FILE *f, const char *run_dir, const kt_mesh *mesh, const kt_
 #ifdef __VERSION__
     fprintf(f, "  compiler: \"%s\"\n", __VERSION__);
 #endif
-    fprintf(f, "  mesh_hash: \"%016" PRIx64 "\"  # kt_mesh_hash: FNV-1a of the nodes and tets\n", kt_mesh_hash(mesh));
-    fprintf(f, "  mesh_nodes: %d\n  mesh_tets: %d\n", mesh->nn, mesh->ne);
     if (have_scene) fprintf(f, "  scene_fnv1a: \"%016" PRIx64 "\"  # of the file's %ld bytes\n", sh, sn);
     else fputs("  scene_fnv1a: null\n", f);
     materials(f, sc);

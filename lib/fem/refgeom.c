@@ -102,9 +102,10 @@ static int factor(problem *p, cholmod_sparse *K, kt_err *e)
     if (!p->L) {
         int saved = p->c.supernodal;
         p->c.supernodal = CHOLMOD_SUPERNODAL;
-        p->L = cholmod_analyze(K, &p->c);
+        kt_err ae = {0};
+        p->L = kt_chol_analyze(K, &p->c, &ae);
         p->c.supernodal = saved;
-        if (!p->L) return kt_fail(e, KT_ERUN, "reference: CHOLMOD analysis failed (status %d)", p->c.status);
+        if (!p->L) return kt_fail(e, ae.code, "reference: %s", ae.msg);
     }
     p->factors++;
     return kt_chol_factor(K, p->L, &p->c, "reference", e);

@@ -20,9 +20,8 @@ int kt_aug_analyze(cholmod_sparse *K, int ordering, int factor, cholmod_common *
     c->postorder = ordering != KT_AUG_ORDER_NATURAL;
     c->supernodal = factor == KT_AUG_FACTOR_SIMPLICIAL ? CHOLMOD_SIMPLICIAL : CHOLMOD_SUPERNODAL;
     c->final_ll = 0;
-    *L = cholmod_analyze(K, c);
-    if (!*L) return kt_fail(e, KT_ERUN, "CHOLMOD analyze failed (status %d)", c->status);
-    return KT_OK;
+    *L = kt_chol_analyze(K, c, e);
+    return e->code;
 }
 
 /* Identity rows and columns at the constrained DOFs of a lower-stored K. */

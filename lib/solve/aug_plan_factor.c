@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "chol.h"
+
 enum { CHAIN_MAX = 256 };
 
 void kt_plan_factor_free(kt_plan_factor *F)
@@ -201,11 +203,13 @@ static int *order(kt_plan_factor *F, int ordering, kt_err *e)
     F->c.method[0].ordering = ordering == KT_AUG_ORDER_AMD ? CHOLMOD_AMD : CHOLMOD_METIS;
     F->c.postorder = 1;
     F->c.supernodal = CHOLMOD_SIMPLICIAL;
-    cholmod_factor *Lb = B ? cholmod_analyze(B, &F->c) : NULL;
+    kt_err ae = {0};
+    cholmod_factor *Lb = B ? kt_chol_analyze(B, &F->c, &ae) : NULL;
     F->lnz_ref = F->c.lnz;
     F->fl_ref = F->c.fl;
     if (Lb) memcpy(P, Lb->Perm, sizeof(int) * (size_t)F->nK);
-    else kt_fail(e, KT_ERUN, "CHOLMOD analysis of the intact block failed (status %d)", F->c.status);
+    else if (!B) kt_fail(e, KT_ERUN, "CHOLMOD could not form the intact block (status %d)", F->c.status);
+    else kt_fail(e, ae.code, "the intact block: %s", ae.msg);
     cholmod_free_factor(&Lb, &F->c);
     cholmod_free_sparse(&B, &F->c);
     if (e->code) {

@@ -147,12 +147,12 @@ static int increment(work *w, double lambda, double *u, const kt_newton_opts *o,
         if (!w->L) {
             int saved = w->c->supernodal;
             w->c->supernodal = CHOLMOD_SUPERNODAL;
-            w->L = cholmod_analyze(K, w->c);
+            kt_err ae = {0};
+            w->L = kt_chol_analyze(K, w->c, &ae);
             w->c->supernodal = saved;
             if (!w->L) {
                 cholmod_free_sparse(&K, w->c);
-                return kt_fail(e, KT_ERUN, "newton: CHOLMOD analysis failed (status %d)",
-                               w->c->status);
+                return kt_fail(e, ae.code, "newton: %s", ae.msg);
             }
         }
         st->iterations++;

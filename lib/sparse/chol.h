@@ -14,8 +14,20 @@
 int kt_chol_factor(cholmod_sparse *A, cholmod_factor *L, cholmod_common *c, const char *what,
                    kt_err *e);
 
-/* Supernodal analysis and factorization of A with CHOLMOD's default ordering; NULL on failure
- * (reported as kt_chol_factor does). */
+/* cholmod_analyze(A, c), except that every METIS ordering is made here and its status checked.
+ * CHOLMOD 3 ignores METIS_NodeND's return status; METIS 5.1 catches a SIGTERM that arrives
+ * while it runs and returns early with no ordering, so inside cholmod_analyze a stopped
+ * process would go on with CHOLMOD's fallback (AMD) or whatever the permutation's memory held:
+ * another ordering, other last digits. Here METIS_NodeND is called on the same graph CHOLMOD
+ * gives it (A + A' without the diagonal, default options) and its ordering handed to CHOLMOD
+ * as given, so the factor is the one cholmod_analyze makes, and a METIS failure is an error.
+ * Covers c->nmethods 1 with CHOLMOD_METIS and the default strategy (nmethods 0: AMD, then METIS
+ * when AMD's fill is high, the smaller nnz(L) kept, AMD on a tie); other settings go to
+ * cholmod_analyze as they are. A symmetric A (stype != 0). NULL on failure, with e set. */
+cholmod_factor *kt_chol_analyze(cholmod_sparse *A, cholmod_common *c, kt_err *e);
+
+/* Supernodal analysis (kt_chol_analyze) and factorization of A with c's orderings (CHOLMOD's
+ * default unless set); NULL on failure (reported as kt_chol_factor does). */
 cholmod_factor *kt_chol_analyze_factor(cholmod_sparse *A, cholmod_common *c, const char *what,
                                        kt_err *e);
 

@@ -79,6 +79,19 @@ const char *kt_order_name(int method)
     }
 }
 
+const char *kt_metis_status(int status)
+{
+    switch (status) {
+    case METIS_OK: return "status 1, METIS_OK";
+    case METIS_ERROR_INPUT: return "status -2, METIS_ERROR_INPUT: METIS refused its input";
+    case METIS_ERROR_MEMORY: return "status -3, METIS_ERROR_MEMORY: out of memory (or SIGABRT while it ran)";
+    case METIS_ERROR:
+        return "status -4, METIS_ERROR: METIS catches a SIGTERM sent while it runs and returns this, "
+               "so the process was most likely being stopped";
+    default: return "an unknown METIS status";
+    }
+}
+
 static int order_amd(const graph *g, int *perm, kt_err *e)
 {
     int st = amd_order(g->n, g->ptr, g->adj, perm, NULL, NULL);
@@ -121,7 +134,7 @@ static int order_metis(const graph *g, int *perm, kt_err *e)
     for (int i = 0; i < g->n; i++) perm[i] = (int)mperm[i];
     free(mperm);
     free(miperm);
-    if (st != METIS_OK) return kt_fail(e, KT_ERUN, "METIS_NodeND failed (status %d)", st);
+    if (st != METIS_OK) return kt_fail(e, KT_ERUN, "METIS_NodeND failed (%s)", kt_metis_status(st));
     return KT_OK;
 }
 

@@ -17,6 +17,12 @@ enum { KT_ORDERING_AMD = 1, KT_ORDERING_METIS, KT_ORDERING_CONSTRAINED, KT_ORDER
 /* Name of a method ("amd", "metis", "constrained", "natural", "metis-last"). */
 const char *kt_order_name(int method);
 
+/* What a METIS 5 return status means, for messages: "status -4, METIS_ERROR: ...". METIS 5.1
+ * traps SIGTERM (and SIGABRT) while it runs and returns METIS_ERROR (METIS_ERROR_MEMORY) instead
+ * of letting the signal end the process: a job stopped while it orders shows up as
+ * METIS_ERROR, and no ordering was made. */
+const char *kt_metis_status(int status);
+
 /* Compute a node permutation. last (nlast nodes, any order, no repeats) is the set that the
  * constrained and metis-last methods put at the end; the other methods ignore it. With
  * nlast == 0 the constrained method is plain AMD. perm has m->nn entries. */

@@ -1,7 +1,9 @@
 /* test_chol.c: the CHOLMOD factor-and-check helper: an SPD matrix factors and solves to its
  * known solution; a stiffness that is not positive definite is reported with the node and
  * component of the failing pivot (an unsupported box; a node in no element, which must be
- * named exactly). */
+ * named exactly); kt_chol_analyze, which makes CHOLMOD's METIS orderings itself (status
+ * checked), gives the factor cholmod_analyze gives: the same permutation, nnz(L) and flops, with
+ * METIS alone and with CHOLMOD's default strategy (AMD, METIS when AMD fills much). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -9,6 +11,7 @@
 #include "fem.h"
 #include "grid.h"
 #include "kt_test.h"
+#include "order.h"
 
 /* The 1D Laplacian tridiag(-1, 2, -1) of order n, lower triangle stored. */
 static cholmod_sparse *laplacian(int n, cholmod_common *c)
@@ -162,6 +165,71 @@ static void test_unsupported_box(cholmod_common *c)
     kt_mesh_free(&m);
 }
 
+/* The 7-point Laplacian of a k x k x k grid, lower triangle stored (pattern of a 3D stiffness). */
+static cholmod_sparse *grid3(int k, cholmod_common *c)
+{
+    int n = k * k * k;
+    cholmod_sparse *A = cholmod_allocate_sparse(n, n, 4 * (size_t)n, 1, 1, -1, CHOLMOD_REAL, c);
+    if (!A) return NULL;
+    int *Ap = A->p, *Ai = A->i, q = 0;
+    double *Ax = A->x;
+    for (int v = 0; v < n; v++) {
+        int x = v % k, y = v / k % k, z = v / (k * k);
+        Ap[v] = q;
+        Ai[q] = v, Ax[q++] = 6.5;
+        if (x + 1 < k) Ai[q] = v + 1, Ax[q++] = -1;
+        if (y + 1 < k) Ai[q] = v + k, Ax[q++] = -1;
+        if (z + 1 < k) Ai[q] = v + k * k, Ax[q++] = -1;
+    }
+    Ap[n] = q;
+    return A;
+}
+
+/* cholmod_analyze and kt_chol_analyze, each with a fresh cholmod_common set by 'methods'
+ * (1: METIS alone; 0: CHOLMOD's default strategy), on the grid of side k. */
+static void same_analysis(int k, int methods)
+{
+    cholmod_common c1, c2;
+    cholmod_start(&c1);
+    cholmod_start(&c2);
+    c1.print = c2.print = 0;
+    if (methods == 1) {
+        c1.nmethods = c2.nmethods = 1;
+        c1.method[0].ordering = c2.method[0].ordering = CHOLMOD_METIS;
+    }
+    cholmod_sparse *A = grid3(k, &c1);
+    kt_err e = {0};
+    cholmod_factor *L1 = A ? cholmod_analyze(A, &c1) : NULL;
+    cholmod_factor *L2 = A ? kt_chol_analyze(A, &c2, &e) : NULL;
+    CHECK(L1 && L2 && e.code == 0, "grid %d, methods %d: both analyses (%s)", k, methods, e.msg);
+    if (L1 && L2) {
+        int n = (int)A->nrow, same = (int)L2->n == n;
+        for (int i = 0; same && i < n; i++) same = ((int *)L1->Perm)[i] == ((int *)L2->Perm)[i];
+        CHECK(same, "grid %d, methods %d: the same permutation (CHOLMOD chose %s)", k, methods,
+              L1->ordering == CHOLMOD_METIS ? "METIS" : "AMD");
+        CHECK(c1.lnz == c2.lnz && c1.fl == c2.fl && L1->is_super == L2->is_super,
+              "grid %d, methods %d: nnz(L) %.0f / %.0f, flops %.0f / %.0f", k, methods, c1.lnz, c2.lnz,
+              c1.fl, c2.fl);
+        if (methods == 1) CHECK(L1->ordering == CHOLMOD_METIS, "METIS alone is METIS");
+        printf("grid %d^3, %s: CHOLMOD chose %s, nnz(L) %.0f\n", k, methods ? "METIS alone" : "default strategy",
+               L1->ordering == CHOLMOD_METIS ? "METIS" : "AMD", c1.lnz);
+    }
+    cholmod_free_factor(&L1, &c1);
+    cholmod_free_factor(&L2, &c2);
+    cholmod_free_sparse(&A, &c1);
+    cholmod_finish(&c1);
+    cholmod_finish(&c2);
+}
+
+static void test_metis(void)
+{
+    same_analysis(12, 1);
+    same_analysis(4, 0);  /* small: AMD fills little, METIS not tried */
+    same_analysis(24, 0); /* AMD fills much: METIS tried, the smaller factor kept */
+    const char *s = kt_metis_status(-4);
+    CHECK(strstr(s, "METIS_ERROR") && strstr(s, "SIGTERM"), "status -4 explained: %s", s);
+}
+
 int main(void)
 {
     cholmod_common c;
@@ -170,6 +238,7 @@ int main(void)
     c.error_handler = NULL;
     test_spd(&c);
     test_unsupported_box(&c);
+    test_metis();
     cholmod_finish(&c);
     return kt_test_done("test_chol");
 }
