@@ -2,8 +2,9 @@
 # lri-table.sh BUILD SCENE OUT [PLAN...]: the arc table of the physics (README, keratome-scene(5)).
 # Meshes SCENE once (mesh-prep), then solves each plan (default: plans/lri-{single,paired}-
 # {30,45,60,75,90}.yaml) in ONE step (the whole arc opened at once: the model is linear, so the
-# final state does not depend on the steps) with augsolve's default planned method (one
-# factorization for the intact step 0 and the cut step 1), reads it with curvature and prints one TSV row per plan to stdout and OUT/table.tsv:
+# final state does not depend on the steps) with augsolve's default method (planned; for a
+# one-step plan it falls back to a fresh factorization per step when that is cheaper, as its
+# run.yaml says), reads it with curvature and prints one TSV row per plan to stdout and OUT/table.tsv:
 #   plan arc paired flattening_D steepening_D coupling_ratio dk_mean_D sia_D nodes seconds
 # The plans' scene: is replaced by SCENE (so a variant scene gives the sensitivity runs).
 # lri-table.sh BUILD SCENE OUT --series [STEP_DEG [PLAN...]]: the same table from one planned
