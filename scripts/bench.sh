@@ -16,6 +16,9 @@
 #   planned    issue 11: the planned method against refactor with METIS, refactor in
 #              mesh-prep's order and Jacobi-PCG on the beam 5x5x1024 cut, the eye LRI plan and
 #              the bunny cut; the table per case comes from bench_table (lib/io/benchtab.c)
+#   nonlin     (only with --only nonlin: long) issue 22: the planned method against the
+#              geometrically nonlinear reference (bench_nonlin) on paired and single LRI arcs:
+#              SIA, flattening, steepening, coupling, mean K, times (scripts/bench/nonlin.sh)
 # The parts live in scripts/bench/PART.sh (their helpers in common.sh, the report in report.sh)
 # and their longer awk programs in scripts/bench/awk/; tests/bench/smoke.sh (ctest -L bench) runs
 # every part with --smoke and checks its tables.
@@ -38,6 +41,7 @@ shopt -s nullglob
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 PARTS_ALL="bandwidth paper ordering tradeoff stability planned"
+PARTS_OPT="nonlin"   # valid with --only, not run by default (long)
 
 usage() {
     awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "${BASH_SOURCE[0]}"
@@ -72,13 +76,13 @@ while [ $# -gt 0 ]; do
     shift
 done
 for p in $ONLY; do
-    case " $PARTS_ALL " in *" $p "*) ;; *) echo "bench: unknown part $p ($PARTS_ALL)" >&2; exit 2 ;; esac
+    case " $PARTS_ALL $PARTS_OPT " in *" $p "*) ;; *) echo "bench: unknown part $p ($PARTS_ALL $PARTS_OPT)" >&2; exit 2 ;; esac
 done
 mkdir -p "$R" && R=$(cd "$R" && pwd)
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 export LC_ALL=C
 
-for t in mesh-prep cutplan augsolve curvature bench_stream bench_cond bench_solves bench_steps bench_table; do
+for t in mesh-prep cutplan augsolve curvature bench_stream bench_cond bench_solves bench_steps bench_table bench_nonlin; do
     [ -x "$B/$t" ] || { echo "bench: $B/$t is not built (cmake --build $B)" >&2; exit 2; }
 done
 command -v gnuplot >/dev/null || echo "bench: gnuplot not found: tables only, no plots" >&2
@@ -103,7 +107,7 @@ now() { date +%s.%N; }
 
 BENCH=$ROOT/scripts/bench
 # the parts, their helpers and their awk programs (scripts/bench/awk/)
-for f in common bandwidth paper ordering tradeoff stability planned report; do
+for f in common bandwidth paper ordering tradeoff stability planned nonlin report; do
     # shellcheck source=/dev/null
     . "$BENCH/$f.sh"
 done

@@ -20,6 +20,9 @@ declare -A V=(
   [G_transverse_12.8kPa]='s/G_transverse: 9.5 kPa/G_transverse: 12.8 kPa/g'
   [G_transverse_47kPa]='s/G_transverse: 9.5 kPa/G_transverse: 47 kPa/g'
   [G_transverse_94kPa]='s/G_transverse: 9.5 kPa/G_transverse: 94 kPa/g'
+  # the cornea's transverse shear by depth third (Petsche 2012: 7.71 / 1.99 / 1.31 kPa, scaled
+  # so that the layers in series keep 9.5 kPa: 34.1 / 8.8 / 5.8 kPa; keratome-scene(5))
+  [G_transverse_profile_on]='s/^    G_transverse: 9.5 kPa /    G_transverse_profile: on\n&/'
   [limbal_density_1.46]='s/limbal_density: 1.91 /limbal_density: 1.46 /'
   [limbal_density_2.36]='s/limbal_density: 1.91 /limbal_density: 2.36 /'
   [limbal_band_1.0mm]='s/limbal_band: 1.5 mm/limbal_band: 1.0 mm/'
@@ -40,7 +43,7 @@ declare -A V=(
 )
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=(defaults E_inplane_1.3MPa E_inplane_4.0MPa G_transverse_2.7kPa
-    G_transverse_6.9kPa G_transverse_12.8kPa G_transverse_47kPa G_transverse_94kPa limbal_density_1.46 limbal_density_2.36 limbal_band_1.0mm limbal_band_2.0mm
+    G_transverse_6.9kPa G_transverse_12.8kPa G_transverse_47kPa G_transverse_94kPa G_transverse_profile_on limbal_density_1.46 limbal_density_2.36 limbal_band_1.0mm limbal_band_2.0mm
     nu_0.45 nu_0.499 IOP_10mmHg IOP_21mmHg sclera_E_1MPa sclera_E_10MPa extent_120deg
     extent_170deg no_prestress)
 mkdir -p "$OUT"

@@ -81,7 +81,11 @@ static void materials(FILE *f, const kt_scene *sc)
     fputs("  materials:                 # as read from the scene (MPa), region by region\n", f);
     for (int i = 0; i < sc->nmat; i++) {
         const kt_region_mat *m = sc->mat + i;
-        if (m->fibre)
+        if (m->fibre && m->gt_profile[0] > 0)
+            fprintf(f, "    %s: {model: fibre, E_inplane_MPa: %.6g, E_inplane_2_MPa: %.6g, "
+                       "G_transverse_MPa: %.6g, nu: %.6g, G_transverse_profile_MPa: [%.6g, %.6g, %.6g]}\n",
+                    m->region, m->E1, m->E2, m->Gt, m->nu, m->gt_profile[0], m->gt_profile[1], m->gt_profile[2]);
+        else if (m->fibre)
             fprintf(f, "    %s: {model: fibre, E_inplane_MPa: %.6g, E_inplane_2_MPa: %.6g, "
                        "G_transverse_MPa: %.6g, nu: %.6g}\n", m->region, m->E1, m->E2, m->Gt, m->nu);
         else

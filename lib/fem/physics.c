@@ -67,21 +67,35 @@ static int fibre_matrices(const kt_scene *s, const kt_mesh *m, const kt_material
     ph->cst = kt_calloc(KT_PHYSICS_NCST * ne, sizeof(double), e);
     ph->td.C = kt_calloc(36 * ne, sizeof(double), e);
     if (e->code || kt_eye_fibre_frames(&s->eye, m, ph->frame, e)) return e->code;
+    /* the relative depth of every tet, when a fibre region has a G_transverse_profile */
+    double *depth = NULL;
+    for (int i = 0; i < s->nmat && !depth; i++)
+        if (s->mat[i].fibre && s->mat[i].gt_profile[0] > 0) {
+            depth = kt_calloc(ne, sizeof(double), e);
+            if (!depth || kt_eye_depth_fractions(&s->eye, m, depth, e)) {
+                free(depth);
+                return e->code;
+            }
+        }
     for (int t = 0; t < m->ne; t++) {
         const kt_group *g = kt_mesh_find_tag(m, 3, m->tet_tag[t]);
         const kt_region_mat *r = g ? region_mat(s, g->name) : NULL;
         double *C = ph->td.C + 36 * (size_t)t, *c = ph->cst + KT_PHYSICS_NCST * (size_t)t;
         if (r && r->fibre) {
             const double *f = ph->frame + 13 * (size_t)t;
-            kt_fibre_material fm = {r->E1, r->E2, r->Gt, r->nu};
+            double Gt = kt_gt_profile(r, depth ? depth[t] : NAN);
+            kt_fibre_material fm = {r->E1, r->E2, Gt, r->nu};
             double Ec = (s->eye.fibre_density - 1) * f[12] * 0.5 * (r->E1 + r->E2);
             kt_fem_fibre_matrix(&fm, f, f + 3, f + 6, f + 9, Ec, C);
-            c[0] = r->E1, c[1] = r->E2, c[2] = r->Gt, c[3] = r->nu, c[4] = Ec, c[5] = 1;
+            c[0] = r->E1, c[1] = r->E2, c[2] = Gt, c[3] = r->nu, c[4] = Ec, c[5] = 1;
+        } else if (iso_constants(mats, m, t, c, e)) {
+            free(depth);
+            return e->code;
         } else {
-            if (iso_constants(mats, m, t, c, e)) return e->code;
             kt_fem_iso_matrix(c[0], c[3], C);
         }
     }
+    free(depth);
     return KT_OK;
 }
 

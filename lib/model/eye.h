@@ -51,4 +51,12 @@ int kt_eye_estimate_tets(const kt_eye *eye, int order, double *tets, kt_err *e);
  * sclera), smoothstep between. */
 int kt_eye_fibre_frames(const kt_eye *eye, const kt_mesh *m, double *F, kt_err *e);
 
+/* Relative depth of each tet's centroid (mean of its corners) through the local thickness of
+ * cornea and limbus: S[t] = 0 at the anterior (outer) surface, 1 at the posterior (inner) one,
+ * NAN in the sclera. The toric warp (kt_eye_warp_toric) is undone first, so the depth is that
+ * of the mesh of revolution the tet came from: in the cornea along the ray from the anterior
+ * sphere's centre, in the limbus across its quad (eye_geom.h, kt_eye_geom_height). For
+ * G_transverse_profile (kt_gt_profile). */
+int kt_eye_depth_fractions(const kt_eye *eye, const kt_mesh *m, double *S, kt_err *e);
+
 #endif

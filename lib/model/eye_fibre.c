@@ -81,3 +81,28 @@ int kt_eye_fibre_frames(const kt_eye *eye, const kt_mesh *m, double *F, kt_err *
     }
     return KT_OK;
 }
+
+int kt_eye_depth_fractions(const kt_eye *eye, const kt_mesh *m, double *S, kt_err *e)
+{
+    kt_eye_geom g;
+    if (kt_eye_geom_init(eye, &g, e)) return e->code;
+    int nv = kt_tet_nv(m->order);
+    for (int t = 0; t < m->ne; t++) {
+        double p[3] = {0, 0, 0};
+        for (int a = 0; a < 4; a++)
+            for (int k = 0; k < 3; k++) p[k] += 0.25 * m->xyz[3 * (size_t)m->tet[(size_t)t * nv + a] + k];
+        double rho = hypot(p[0], p[1]), z0 = p[2];
+        /* the warp moved a point of the mesh of revolution by w(rho, z0) delta in z: undo it
+         * (w changes by about delta / thickness over the move: a contraction) */
+        double delta = rho < g.rL ? kt_eye_geom_toric_z(&g, p[0], p[1]) - kt_eye_geom_sphere_z(&g, rho) : 0;
+        if (isfinite(delta) && delta != 0)
+            for (int it = 0; it < 50; it++) {
+                double w = kt_eye_geom_weight(&g, rho, z0), z1 = p[2] - (w > 0 ? w * delta : 0);
+                if (fabs(z1 - z0) < 1e-13) break;
+                z0 = z1;
+            }
+        double h = kt_eye_geom_height(&g, rho, z0);
+        S[t] = isnan(h) ? NAN : 1 - h;
+    }
+    return KT_OK;
+}

@@ -103,6 +103,16 @@ double kt_eye_geom_weight(const kt_eye_geom *g, double rho, double z)
     return clamp01(s) * (1 - clamp01(u));
 }
 
+double kt_eye_geom_height(const kt_eye_geom *g, double rho, double z)
+{
+    if (atan2(rho, z) >= g->alphaL) return NAN;
+    double phi = atan2(rho, z - g->z_ca);
+    if (phi <= g->phic) return kt_eye_geom_weight(g, rho, z);
+    double X[2] = {rho, z}, u, s;
+    limbus_coords(g, X, &u, &s);
+    return clamp01(s);
+}
+
 double kt_eye_geom_outer_z(const kt_eye_geom *g, double x, double y)
 {
     double rho = hypot(x, y);

@@ -94,6 +94,12 @@ double kt_eye_geom_thickness(const kt_eye_geom *g, double r);
  * falling linearly to 0 at the posterior cornea, across the limbus to its scleral border. */
 double kt_eye_geom_weight(const kt_eye_geom *g, double rho, double z);
 
+/* Relative height of a base-geometry point through the thickness: 1 on the anterior (outer)
+ * surface, 0 on the posterior (inner) one; in the cornea along the ray from the anterior
+ * sphere's centre (as kt_eye_geom_weight), in the limbus the quad's outer coordinate; NAN in
+ * the sclera. Clamped to [0, 1]. */
+double kt_eye_geom_height(const kt_eye_geom *g, double rho, double z);
+
 /* Height of the outer surface of cornea and limbus after the warp (the "anterior z"). */
 double kt_eye_geom_outer_z(const kt_eye_geom *g, double x, double y);
 

@@ -175,7 +175,7 @@ static int parse_ordering(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *
 }
 
 static const char *const MAT_KEYS[] = {"model", "E", "nu", "E_inplane", "E_inplane_2",
-                                       "G_transverse", NULL};
+                                       "G_transverse", "G_transverse_profile", NULL};
 static const char *const MAT_MODELS[] = {"isotropic", "fibre", NULL};
 
 static kt_region_mat *find_mat(kt_scene *s, const char *region)
@@ -207,6 +207,40 @@ static int known_region(const kt_scene *s, const char *name)
     return kt_scene_in_list(BODY_REGIONS, name);
 }
 
+double kt_gt_profile(const kt_region_mat *r, double s)
+{
+    const double *g = r->gt_profile;
+    if (!(g[0] > 0 && g[1] > 0 && g[2] > 0) || isnan(s)) return r->Gt;
+    double h = 3 / (1 / g[0] + 1 / g[1] + 1 / g[2]);
+    return r->Gt * g[s < 1.0 / 3 ? 0 : s < 2.0 / 3 ? 1 : 2] / h;
+}
+
+/* G_transverse_profile: off (the default), on (the Petsche 2012 thirds) or a list of three
+ * moduli, anterior / middle / posterior third. */
+static int parse_gt_profile(kt_yml *y, const yaml_node_t *n, const char *what, kt_region_mat *r,
+                            kt_err *e)
+{
+    if (!n) return KT_OK;
+    char key[128];
+    snprintf(key, sizeof key, "%s.G_transverse_profile", what);
+    if (n->type == YAML_SCALAR_NODE) {
+        const char *v = (const char *)n->data.scalar.value;
+        int on = strcmp(v, "on") == 0;
+        if (!on && strcmp(v, "off") != 0)
+            return kt_yml_fail(y, n, e, "%s: expected off, on or a list of three moduli "
+                               "(anterior, middle, posterior third), got '%s'", key, v);
+        static const double P[3] = KT_GT_PROFILE_PETSCHE;
+        for (int k = 0; k < 3; k++) r->gt_profile[k] = on ? P[k] : 0;
+        return KT_OK;
+    }
+    if (kt_yml_check_seq(y, n, key, 3, 3, e)) return e->code;
+    for (int k = 0; k < 3; k++)
+        if (kt_yml_quantity(y, kt_yml_seq_item(y, n, k), key, KT_UNIT_PRESSURE, KT_SCENE_MODULUS,
+                            &r->gt_profile[k], e))
+            return e->code;
+    return KT_OK;
+}
+
 /* A fibre region: E_inplane (both in-plane directions unless E_inplane_2 gives the second),
  * G_transverse, nu; a field left out keeps the region's default (an eye region's, else none). */
 static int parse_fibre_mat(kt_yml *y, const yaml_node_t *v, const char *what, kt_region_mat *r,
@@ -226,7 +260,7 @@ static int parse_fibre_mat(kt_yml *y, const yaml_node_t *v, const char *what, kt
         kt_yml_key_quantity(y, v, what, "G_transverse", KT_UNIT_PRESSURE, KT_SCENE_MODULUS, &r->Gt, e) ||
         kt_yml_key_number(y, v, what, "nu", kt_scene_range(-1, 0.5, 1, 1), &r->nu, e))
         return e->code;
-    return KT_OK;
+    return parse_gt_profile(y, kt_yml_get(y, v, "G_transverse_profile"), what, r, e);
 }
 
 static int parse_materials(kt_yml *y, const yaml_node_t *n, kt_scene *s, kt_err *e)

@@ -39,7 +39,22 @@ typedef struct kt_region_mat {
     int fibre;                  /* model: 0 isotropic, 1 fibre (lamellar, eye only) */
     double E1, E2, Gt;          /* fibre: in-plane moduli along a1 (nasal-temporal centrally)
                                    and a2, transverse shear modulus, MPa */
+    double gt_profile[3];       /* fibre: G_transverse_profile, the transverse shear of the
+                                   anterior, middle and posterior thirds of the thickness as
+                                   measured, MPa; only their ratios are used (kt_gt_profile);
+                                   all 0: off, Gt through the whole depth (the default) */
 } kt_region_mat;
+
+/* The Petsche et al. 2012 thirds (torsion, human stroma): 7.71 / 1.99 / 1.31 kPa, in MPa
+ * (G_transverse_profile: on). */
+#define KT_GT_PROFILE_PETSCHE {7.71e-3, 1.99e-3, 1.31e-3}
+
+/* The transverse shear modulus of a tet of region r at relative depth s (0 at the anterior or
+ * outer surface, 1 at the posterior or inner one; NAN outside cornea and limbus): r->Gt when
+ * the profile is off or s is NAN, else r->Gt * gt_profile[third(s)] / H, H the harmonic mean of
+ * the three: the layers in series (a full-thickness torsion test, a uniform transverse shear
+ * stress) see r->Gt, as without the profile. Thirds: s < 1/3, s < 2/3, else. */
+double kt_gt_profile(const kt_region_mat *r, double s);
 
 typedef struct kt_pressure {
     char surface[KT_NAME_MAX];

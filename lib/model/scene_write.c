@@ -42,7 +42,11 @@ int kt_scene_write_eye(FILE *f, const kt_scene *s, const char *header, kt_err *e
     fprintf(f, "materials:\n");
     for (int i = 0; i < s->nmat; i++) {
         const kt_region_mat *m = &s->mat[i];
-        if (m->fibre)
+        if (m->fibre && m->gt_profile[0] > 0)
+            fprintf(f, "  %s: {model: fibre, E_inplane: %.17g MPa, E_inplane_2: %.17g MPa, G_transverse: %.17g MPa, nu: %.17g, "
+                       "G_transverse_profile: [%.17g MPa, %.17g MPa, %.17g MPa]}\n",
+                    m->region, m->E1, m->E2, m->Gt, m->nu, m->gt_profile[0], m->gt_profile[1], m->gt_profile[2]);
+        else if (m->fibre)
             fprintf(f, "  %s: {model: fibre, E_inplane: %.17g MPa, E_inplane_2: %.17g MPa, G_transverse: %.17g MPa, nu: %.17g}\n",
                     m->region, m->E1, m->E2, m->Gt, m->nu);
         else

@@ -173,6 +173,41 @@ int main(void)
                   s.mat[i].region, s.mat[i].E1, s.mat[i].E2, Ew_text);
         }
         CHECK(seen == 2, "%s: cornea and limbus materials (%d)", scenes[k], seen);
+        /* the depth profile is off by default (keratome-scene(5), G_transverse_profile) */
+        for (int i = 0; i < s.nmat; i++)
+            CHECK(s.mat[i].gt_profile[0] == 0 && kt_gt_profile(&s.mat[i], 0.1) == s.mat[i].Gt,
+                  "%s %s: G_transverse_profile is on by default", scenes[k], s.mat[i].region);
+    }
+    /* G_transverse_profile: on is Petsche 2012's thirds, scaled so the layers in series keep
+     * G_transverse: 34.1 / 8.8 / 5.8 kPa at 9.5 kPa, as keratome-scene(5) prints */
+    fy = fopen(path, "w");
+    CHECK(fy && fputs("model: eye\nmaterials:\n  cornea: {G_transverse_profile: on}\n"
+                      "  limbus: {G_transverse_profile: [3 kPa, 2 kPa, 1 kPa]}\n", fy) >= 0 &&
+              fclose(fy) == 0, "write %s", path);
+    {
+        kt_scene s;
+        kt_err e = {0};
+        CHECK(kt_scene_load(path, &s, &e) == KT_OK, "%s: %s", path, e.msg);
+        for (int i = 0; i < s.nmat && !e.code; i++) {
+            const kt_region_mat *r = &s.mat[i];
+            if (!strcmp(r->region, "sclera")) continue;
+            int cornea = !strcmp(r->region, "cornea");
+            double g[3] = {cornea ? 7.71e-3 : 3e-3, cornea ? 1.99e-3 : 2e-3, cornea ? 1.31e-3 : 1e-3};
+            double depth[3] = {0.1, 0.5, 0.9}, inv = 0;
+            for (int k = 0; k < 3; k++) {
+                CHECK(fabs(r->gt_profile[k] - g[k]) <= 1e-15, "%s: profile[%d] %g", r->region, k, r->gt_profile[k]);
+                inv += 1 / kt_gt_profile(r, depth[k]);
+            }
+            CHECK(fabs(3 / inv - Gw_text) <= 1e-15, "%s: thirds in series %.15g MPa, not G_transverse",
+                  r->region, 3 / inv);
+            CHECK(kt_gt_profile(r, NAN) == r->Gt, "%s: no depth (sclera): G_transverse", r->region);
+            if (cornea) {
+                const double want[3] = {34.1e-3, 8.8e-3, 5.8e-3}; /* as printed, 0.1 kPa */
+                for (int k = 0; k < 3; k++)
+                    CHECK(fabs(kt_gt_profile(r, depth[k]) - want[k]) <= 0.05e-3, "cornea third %d: %.4g kPa, "
+                          "keratome-scene(5) prints %.1f", k, 1e3 * kt_gt_profile(r, depth[k]), 1e3 * want[k]);
+            }
+        }
     }
     unlink(path);
     rmdir(dir);
