@@ -23,7 +23,7 @@ last_row() { # CURVATURE.TSV -> header line and the last step's line
 }
 # 1. eyes.tsv
 {
-    head -n 1 "$out/samples.tsv" | tr '\n' '\t'; echo "$R" | tr ' ' '\t'; echo
+    head -n 1 "$out/samples.tsv" | tr '\n' '\t'; echo "$R" | tr ' ' '\t'
     i=0
     for s in "${samples[@]}"; do
         sed -n "$((i + 2))p" "$out/samples.tsv" | tr '\n' '\t'
@@ -59,7 +59,7 @@ fi
             fo=$(last_row "$band" | awk -F'\t' -v r="$r" 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
                 { print $c[r "_sd"], $c[r "_lo90"], $c[r "_hi90"] }')
         fi
-        tail -n +2 "$tmp/eyes.tsv" | cut -f"$col" | grep -v -x NaN | sort -g |
+        tail -n +2 "$tmp/eyes.tsv" | cut -f"$col" | grep -x -E -- '-?[0-9.]+([eE][-+]?[0-9]+)?' | sort -g |
         awk -v r="$r" -v nom="$nominal" -v fo="$fo" '
             { x[++n] = $1; s += $1 }
             function q(p,   h, lo) { h = (n - 1) * p + 1; lo = int(h); return lo >= n ? x[n] : x[lo] + (h - lo) * (x[lo + 1] - x[lo]) }
