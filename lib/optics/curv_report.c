@@ -428,7 +428,7 @@ static void tornado(FILE *f, const kt_report *r)
     double lo = 0, hi = vmax > 0 ? vmax : 1;
     kt_svg_nice_range(&lo, &hi, 5);
     kt_svg_plot p = {left, top, W - left - right, rowh * r->ntorn, 0, hi, 0, 1};
-    fputs("<h2>4b. How sure: the SIA's band</h2>\n<div class=\"row\">\n<figure id=\"tornado\">", f);
+    fputs("<h2>4b. How sure: the SIA's band</h2>\n<div class=\"row\">\n<figure id=\"tornado\" style=\"flex:0 1 640px\">", f);
     kt_svg_begin(f, W, H, "contribution of each uncertain quantity to the SIA's standard deviation");
     double st = kt_svg_nice_step(hi, 5);
     for (double v = 0; v <= hi + 1e-12; v += st) {
@@ -738,9 +738,9 @@ static int page(FILE *f, const kt_report *r, kt_err *e)
     int rc = maps(f, r, e);
     if (rc == KT_OK) rc = step_plots(f, r, e);
     if (rc != KT_OK) return rc;
-    if (r->ntorn > 0) tornado(f, r);
     step_table(f, r);
     if ((rc = strip(f, r, e)) != KT_OK) return rc;
+    if (r->ntorn > 0) tornado(f, r);
     fputs("<h2>5. Astigmatism as vectors</h2>\n<div class=\"row\">\n<figure style=\"flex:0 1 460px\">", f);
     double_angle(f, r);
     fputs("<figcaption><b>Double-angle plot.</b> Astigmatism is a vector with a 180&deg; period, so each "
