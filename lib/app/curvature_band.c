@@ -281,7 +281,8 @@ static void band_text(const run_ctx *c, int i, int q, const char *label, const c
     double v = c->val[(size_t)i * KT_RD_N + q], sd = c->sd[(size_t)i * KT_RD_N + q], lo, hi;
     kt_band_interval(q, v, sd, &lo, &hi);
     if (isnan(v)) return;
-    fprintf(f, "%s %.*f%s (90%%: %.*f-%.*f)", label, dec, v, unit, dec, lo, dec, hi);
+    /* "a-b" as the contract says; "a to b" when a minus sign would make that ambiguous */
+    fprintf(f, "%s %.*f%s (90%%: %.*f%s%.*f)", label, dec, v, unit, dec, lo, lo < 0 || hi < 0 ? " to " : "-", dec, hi);
 }
 
 void kt_curvrun_band_summary(const run_ctx *c, FILE *f)
