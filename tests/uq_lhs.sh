@@ -69,7 +69,7 @@ done
 # gen.sh on the study's own spec, the ci set with N = 3
 bash plans/studies/uq/gen.sh plans/studies/uq/study.spec "$tmp/g" ci 3
 grep -qx "SAMPLES := s000 s001 s002" "$tmp/g/study.mk" || fail "study.mk: $(cat "$tmp/g/study.mk")"
-grep -qx "GEOMETRY := thickness_plus thickness_minus depth_plus depth_minus" "$tmp/g/study.mk" || fail "GEOMETRY"
+grep -qx "GEOMETRY := E_inplane_plus E_inplane_minus G_transverse_plus G_transverse_minus iop_plus iop_minus limbal_density_plus limbal_density_minus thickness_plus thickness_minus depth_plus depth_minus" "$tmp/g/study.mk" || fail "GEOMETRY"
 [ "$(wc -l < "$tmp/g/samples.tsv")" -eq 4 ] || fail "samples.tsv rows"
 # the nominal eye: the base scene on the quick mesh, nothing else moved
 diff <(grep -v '^#' "$tmp/g/scenes/nominal.yaml" | grep -v -E '^    (optical_zone|incision|cornea|sclera):') \

@@ -46,6 +46,21 @@ if [ -f "$nom/uncertainty.tsv" ]; then
     note="first-order band: $(grep -c -v -e '^param' "$nom/uncertainty.tsv") quantities in uncertainty.tsv; "
     note+=$(grep '^left out' "$tmp/band.txt" || echo "none left out")
     [ -f "$out/sens.tsv" ] || note+=" (make geometry writes the --sens file for the fd quantities)"
+elif [ -f "$out/sens.tsv" ] && [ -f "$nom/step-0000.vtk" ]; then
+    # No augsolve --uncertainty: the band from the geometry target's central differences alone,
+    # every quantity of params.tsv with rows in sens.tsv marked fd in an uncertainty.tsv of this
+    # summary's own (in a folder that links the nominal run's files; the run is not touched).
+    mkdir -p "$tmp/fd/run"
+    ln -s "$out/runs/nominal/eye.msh" "$tmp/fd/eye.msh"
+    for f in "$nom"/*; do ln -s "$f" "$tmp/fd/run/${f##*/}"; done
+    awk -F'\t' -v OFS='\t' 'FNR == 1 { f++; next } f == 1 { has[$1] = 1; next }
+        { print $1, $5, $6, $3, (($1 in has) ? "fd" : "none"), "study.spec" }' "$out/sens.tsv" "$out/params.tsv" |
+        { printf 'param\tunit\tvalue\tsd\tmethod\tsource\n'; cat; } > "$tmp/fd/run/uncertainty.tsv"
+    "$B/curvature" -q --no-png --no-vtk --no-report --sens "$out/sens.tsv" -o "$tmp/band" "$tmp/fd/run" > "$tmp/band.txt"
+    band=$tmp/band/curvature.tsv
+    note="first-order band by central differences of the whole pipeline (make geometry; no augsolve --uncertainty): "
+    note+="$(awk -F'\t' '$5 == "fd" { printf "%s%s", n++ ? ", " : "", $1 }' "$tmp/fd/run/uncertainty.tsv")"
+    note+=$(grep '^left out' "$tmp/band.txt" | sed 's/^/; /' || true)
 fi
 
 # 3. uq.tsv
