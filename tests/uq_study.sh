@@ -73,7 +73,7 @@ print('uq_study: real eye, dR/dp for dudp = u: ' + ', '.join(f'{k} {v:.1e}' for 
 sens = table(o + '/sens.tsv')
 for s in sens:
     want = 0.05 / h if (s['reading'] == 'sia_D' and s['step'] != '0') else 0
-    if s['reading'] in ('sia_x_D',):   # follows sia_D through its axis
+    if s['reading'] in ('sia_x_D', 'sia_y_D'):   # follow sia_D through its axis
         continue
     assert abs(float(s['dR_dp']) - want) < 2e-5 / h + 1e-12, (s, want)
 b2 = table(t + '/band2/curvature.tsv')[-1]
