@@ -83,7 +83,7 @@ assert abs(sd2 - want) < 1e-4, (sd2, want)
 print(f'uq_study: --sens adds the fd quantity: SIA sd {sd1:.4f} -> {sd2:.4f} D (expected {want:.4f})')
 PYEOF
 # the comparison with that band
-bash plans/studies/uq/summarize.sh "$O" > /dev/null
+KT_BUILD="$B" bash plans/studies/uq/summarize.sh "$O" > /dev/null
 awk -F'\t' -v b="$(awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } { v = $c["sia_D_sd"] } END { print v }' "$tmp/band2/curvature.tsv")" '
     $1 == "sia_D" { ok = ($8 - b < 1e-5 && b - $8 < 1e-5) && ($11 == "NaN" || ($11 - $5 / $8 < 2e-3 && $5 / $8 - $11 < 2e-3)) }
     END { exit !ok }' "$O/uq.tsv" || fail "uq.tsv's first-order sd is not the band's: $(grep sia_D "$O/uq.tsv")"
