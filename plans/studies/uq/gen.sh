@@ -71,7 +71,7 @@ bash "$here/lhs.sh" "$n" "$seed" "${args[@]}" > "$tmp/samples.tsv"
 mkdir -p "$tmp/scenes" "$tmp/plans"
 write_eye() { # NAME [PARAM DELTA]...
     local name=$1; shift
-    awk -v T="$tmp" -v NAME="$name" -v BASE="$base" -v PLAN="$plan" -v MESH="$mesh" -v STEP="$step" -v D="$*" '
+    awk -v LD0="${BASEV[limbal_density]}" -v T="$tmp" -v NAME="$name" -v BASE="$base" -v PLAN="$plan" -v MESH="$mesh" -v STEP="$step" -v D="$*" '
     function bump(line, key, unit, delta,    pre, v, rest) {
         if (!match(line, key ": *[0-9.]+" (unit == "" ? "" : " *" unit))) return line
         pre = substr(line, 1, RSTART - 1); v = substr(line, RSTART, RLENGTH); rest = substr(line, RSTART + RLENGTH)
@@ -82,6 +82,9 @@ write_eye() { # NAME [PARAM DELTA]...
     BEGIN {
         nd = split(D, d, " ")
         for (i = 1; i < nd; i += 2) dv[d[i]] = d[i + 1]
+        if (LD0 + dv["limbal_density"] < 1 || LD0 + dv["limbal_density"] > 5) {
+            printf "gen.sh: eye %s: limbal_density %+g leaves the scene range [1, 5] (keratome-scene(5)): use a bounded distribution\n",
+                   NAME, dv["limbal_density"] > "/dev/stderr"; exit 2 }
         frac = 0.9 + dv["depth"] / 653
         if (frac > 0.97 || frac < 0.3) {
             printf "gen.sh: eye %s: depth %+g um gives depth_fraction %.3f, outside [0.3, 0.97]: lower the depth sd\n",
