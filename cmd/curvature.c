@@ -14,7 +14,8 @@ static const char usage[] =
     "       curvature --compare RUN_A RUN_B [-o OUTDIR]\n"
     "Simulated keratometry of the deformed anterior cornea at every step: K steep/flat, axis,\n"
     "cylinder, flattening of the incised meridian, steepening of the orthogonal one, coupling\n"
-    "ratio, Alpins vector analysis, posterior and total corneal power; writes curvature.tsv,\n"
+    "ratio, Alpins vector analysis, posterior and total corneal power, and with RUN_DIR/uncertainty.tsv\n"
+    "(augsolve --uncertainty) each reading's first-order 90% band; writes curvature.tsv,\n"
     "meridians.tsv, surface-NNNN.vtk, axial-NNNN.png, report.html and (RUN_DIR) steps.pvd, and\n"
     "prints a summary.\n"
     "  --zone MM          keratometry zone diameter, mm (3, 5 or 7; default 3)\n"
@@ -36,6 +37,9 @@ static const char usage[] =
     "  --eye OD|OS        the eye the report draws (nasal side; default OD, a right eye)\n"
     "  --no-report        do not write report.html\n"
     "  --json             print the summary as JSON (one object) instead of text\n"
+    "  --sens FILE        finite-difference derivatives of the run's fd quantities (param, reading,\n"
+    "                     dR_dp [, step]) for the uncertainty bands\n"
+    "  --no-uncertainty   no bands, even when RUN_DIR has uncertainty.tsv\n"
     "  -o OUTDIR          output folder (default RUN_DIR, or . with --mesh)\n"
     "  -q                 no progress on stderr\n"
     "  -h, --help         this help\n"
@@ -53,7 +57,8 @@ static int bad(const char *fmt, const char *arg)
 static int tool_main(int argc, char **argv)
 {
     enum { O_ZONE = 256, O_FIT, O_ORDER, O_MAPZONE, O_MAPORDER, O_MERIDIAN, O_PLAN, O_MESH, O_PNG,
-           O_NOPNG, O_NOVTK, O_SCALE, O_NOREPORT, O_JSON, O_VERSION, O_STEP, O_ARC, O_COMPARE, O_EYE };
+           O_NOPNG, O_NOVTK, O_SCALE, O_NOREPORT, O_JSON, O_VERSION, O_STEP, O_ARC, O_COMPARE, O_EYE,
+           O_SENS, O_NOUQ };
     static const struct option lo[] = {
         {"zone", required_argument, 0, O_ZONE},         {"fit", required_argument, 0, O_FIT},
         {"order", required_argument, 0, O_ORDER},       {"map-zone", required_argument, 0, O_MAPZONE},
@@ -65,6 +70,7 @@ static int tool_main(int argc, char **argv)
         {"version", no_argument, 0, O_VERSION},         {"help", no_argument, 0, 'h'},
         {"step", required_argument, 0, O_STEP},         {"arc", required_argument, 0, O_ARC},
         {"compare", no_argument, 0, O_COMPARE},         {"eye", required_argument, 0, O_EYE},
+        {"sens", required_argument, 0, O_SENS},         {"no-uncertainty", no_argument, 0, O_NOUQ},
         {0, 0, 0, 0}};
     kt_curv_opts o;
     kt_curv_opts_default(&o);
@@ -120,6 +126,8 @@ static int tool_main(int argc, char **argv)
             else if (strcmp(optarg, "OS") == 0 || strcmp(optarg, "os") == 0) o.eye_os = 1;
             else return bad("--eye %s: expected OD (right eye) or OS (left eye)", optarg);
             break;
+        case O_SENS: o.sens = optarg; break;
+        case O_NOUQ: o.no_bands = 1; break;
         case 'o': o.outdir = optarg; break;
         case 'q': o.quiet = 1; break;
         case O_NOREPORT: o.report = 0; break;

@@ -11,6 +11,7 @@
 #include "curv_total.h"
 #include "curvature_run.h"
 #include "plan.h"
+#include "uqread.h"
 
 #define PATHMAX 4096
 
@@ -55,6 +56,17 @@ typedef struct run_ctx {
     unsigned long long mesh_hash_read; /* kt_mesh_hash of the mesh read (the report's provenance) */
     int nfile;
     char **file;         /* names written into tmpdir */
+    /* uncertainty bands (curvature_band.c): on when the run folder has uncertainty.tsv */
+    int bands;
+    kt_uq_table uq;      /* RUN/uncertainty.tsv */
+    kt_uq_sens sens;     /* --sens */
+    int *used;           /* uq.n: 1 when the quantity contributes (derivative, or fd with --sens rows) */
+    double *deriv;       /* nstep x uq.n x KT_RD_N: dR/dp (0 for quantities left out) */
+    double *eps;         /* nstep x uq.n: the central difference's step, in p's unit (NaN: fd/none) */
+    double *sd;          /* nstep x KT_RD_N: the readings' standard deviations */
+    double *val;         /* nstep x KT_RD_N: the readings (kt_band_readings) */
+    int b0_n;            /* step 0's anterior nodes, positions and dudp (uq.n x 3 b0_n) */
+    double *b0_xyz, *b0_dudp;
 } run_ctx;
 
 /* dst = dir/name (PATHMAX), KT_EINPUT when too long. */
@@ -69,6 +81,23 @@ int kt_curvrun_tmp_path(run_ctx *c, char *path, const char *name, kt_err *e);
 double kt_curvrun_arc(const run_ctx *c, int i);
 /* One line on over- or under-correction and an axis flip, for the summary and the page. */
 void kt_curvrun_verdict(const run_ctx *c, char *buf, size_t size);
+
+/* curvature_band.c */
+int kt_curvrun_band_setup(run_ctx *c, kt_err *e);
+/* The derivatives of step `step` (its VTK v and anterior surface s; step 0 first). */
+int kt_curvrun_band_step(run_ctx *c, int step, const kt_vtk *v, const kt_surf *s, kt_err *e);
+/* After every step: the fd rows of --sens and the standard deviations. */
+int kt_curvrun_band_finish(run_ctx *c, kt_err *e);
+void kt_curvrun_band_free(run_ctx *c);
+/* curvature.tsv's band columns (header / one step's values, each with a leading tab). */
+void kt_curvrun_band_tsv_head(const run_ctx *c, FILE *f);
+void kt_curvrun_band_tsv_row(const run_ctx *c, int i, FILE *f);
+int kt_curvrun_band_write(run_ctx *c, kt_err *e); /* derivatives.tsv */
+void kt_curvrun_band_summary(const run_ctx *c, FILE *f);
+void kt_curvrun_band_json_top(const run_ctx *c, FILE *f);
+void kt_curvrun_band_json_step(const run_ctx *c, int i, FILE *f);
+/* The contributions to the SIA's sd at the last step, largest first: names, values; count. */
+int kt_curvrun_band_tornado(const run_ctx *c, const char **name, double *val);
 
 /* curvature_out.c */
 int kt_curvrun_write_tables(run_ctx *c, kt_err *e);

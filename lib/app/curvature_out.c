@@ -12,6 +12,7 @@
 #include "curvature_run.h"
 
 #include "curv.h"
+#include "curv_band.h"
 #include "curv_report.h"
 #include "curv_total.h"
 #include "msh.h"
@@ -61,7 +62,9 @@ int kt_curvrun_write_tables(run_ctx *c, kt_err *e)
           "\ttia_D\ttia_axis_deg\tdv_D\tdv_axis_deg\tcorrection_index\tangle_error_deg"
           "\tapex_x_mm\tapex_y_mm\tapex_z_mm\tfit_rms_um\tzone_points\tfit_order"
           "\tpost_k_steep_D\tpost_k_flat_D\tpost_axis_deg\tpost_cyl_D\tthickness_mm"
-          "\ttotal_k_steep_D\ttotal_k_flat_D\ttotal_axis_deg\ttotal_cyl_D\tarc_deg\n", f);
+          "\ttotal_k_steep_D\ttotal_k_flat_D\ttotal_axis_deg\ttotal_cyl_D\tarc_deg", f);
+    kt_curvrun_band_tsv_head(c, f);
+    fputc('\n', f);
     for (int i = 0; i < c->nstep; i++) {
         const step_res *r = c->res + i;
         step_cmp d;
@@ -86,6 +89,7 @@ int kt_curvrun_write_tables(run_ctx *c, kt_err *e)
         }
         fputc('\t', f);
         put(f, kt_curvrun_arc(c, i), "%.4f");
+        kt_curvrun_band_tsv_row(c, i, f);
         fputc('\n', f);
     }
     if (kt_out_commit(&out, e)) return e->code;
@@ -159,6 +163,7 @@ void kt_curvrun_summary(const run_ctx *c, FILE *f)
         fprintf(f, "verdict: %s\n", v);
         if (axis_note(c, note, sizeof note)) fprintf(f, "note: %s\n", note);
     }
+    kt_curvrun_band_summary(c, f);
 }
 
 /* The largest angle between two axes, 0 to 90 deg. */
@@ -234,6 +239,7 @@ void kt_curvrun_summary_json(const run_ctx *c, FILE *f)
     } else {
         fputs("null, ", f);
     }
+    kt_curvrun_band_json_top(c, f);
     fputs("\"steps\": [", f);
     for (int i = 0; i < c->nstep; i++) {
         const step_res *r = c->res + i;
@@ -263,6 +269,7 @@ void kt_curvrun_summary_json(const run_ctx *c, FILE *f)
         jnum(f, "total_k_flat_D", r->tot.tot_flat, 0);
         jnum(f, "total_axis_deg", kt_curvrun_axis_out(r->tot.tot_axis, 4), 0);
         jnum(f, "total_cyl_D", r->tot.tot_cyl, 1);
+        kt_curvrun_band_json_step(c, i, f);
         fputs("}", f);
     }
     fputs("\n]}\n", f);
@@ -452,12 +459,28 @@ int kt_curvrun_write_report(run_ctx *c, kt_err *e)
         return e->code;
     }
     r.nprov = prov_rows(c, rows, ptr), r.prov = ptr;
+    double *band = c->bands ? kt_calloc((size_t)2 * c->nstep, sizeof(double), e) : NULL;
+    const char **tname = c->bands ? kt_calloc(c->uq.n > 0 ? c->uq.n : 1, sizeof(char *), e) : NULL;
+    double *tval = c->bands ? kt_calloc(c->uq.n > 0 ? c->uq.n : 1, sizeof(double), e) : NULL;
+    if (c->bands && (!band || !tname || !tval)) {
+        free(band), free(tname), free(tval), free(rows), free(maps), free(rad), free(run_yaml), free(st);
+        return e->code;
+    }
+    if (c->bands) {
+        for (int i = 0; i < c->nstep; i++)
+            kt_band_interval(KT_RD_SIA, c->val[(size_t)i * KT_RD_N + KT_RD_SIA], c->sd[(size_t)i * KT_RD_N + KT_RD_SIA],
+                             band + i, band + c->nstep + i);
+        r.sia_lo = band, r.sia_hi = band + c->nstep;
+        r.ntorn = kt_curvrun_band_tornado(c, tname, tval);
+        r.torn_name = tname, r.torn_val = tval;
+        r.sia_sd = c->sd[(size_t)(c->nstep - 1) * KT_RD_N + KT_RD_SIA];
+    }
     for (int i = 0; i < c->nstep; i++) maps[i] = &c->res[i].map, rad[i] = c->res[i].map_radius;
     r.maps = maps, r.map_rad = rad;
     int rc = kt_curvrun_tmp_path(c, path, "report.html", e);
     if (rc == KT_OK) rc = kt_curvrun_add_file(c, "report.html", e); /* first: a failed run removes it */
     if (rc == KT_OK) rc = kt_curv_report_write(path, &r, e);
-    free(run_yaml), free(st), free(rows), free(maps), free(rad);
+    free(run_yaml), free(st), free(rows), free(maps), free(rad), free(band), free(tname), free(tval);
     return rc;
 }
 

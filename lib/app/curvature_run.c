@@ -385,6 +385,7 @@ static int do_step(run_ctx *c, int step, kt_err *e)
         rc = kt_fail(e, KT_EINPUT, "%s: %d points and %d cells, expected %s%d points and %d "
                      "tets (the mesh %s): a step of another mesh", c->vtk[step], v.nn, v.ncell,
                      step ? "at least " : "", c->mesh_nn, c->mesh_ne, c->mesh);
+    if (rc == KT_OK) rc = kt_curvrun_band_step(c, step, &v, &s, e);
     kt_vtk_free(&v);
     if (rc != KT_OK) {
         if (s.xyz) kt_surf_free(&s);
@@ -536,6 +537,7 @@ static int setup(run_ctx *c, kt_err *e)
     }
     if (c->plan[0] && read_plan(c, e)) return e->code;
     if (number_steps(c, e) || select_step(c, e)) return e->code;
+    if (kt_curvrun_band_setup(c, e)) return e->code;
 
     kt_mesh m;
     if (kt_msh_read(c->mesh, &m, e) != KT_OK) return e->code;
@@ -587,6 +589,7 @@ static void ctx_free(run_ctx *c)
     free(c->vtk), free(c->num), free(c->file), free(c->mask), free(c->post_mask), free(c->res), free(c->u0);
     kt_section_free(&c->section);
     free(c->plan_in);
+    kt_curvrun_band_free(c);
 }
 
 int kt_curv_run(const kt_curv_opts *o, FILE *out, kt_err *e)
@@ -611,7 +614,9 @@ int kt_curv_run(const kt_curv_opts *o, FILE *out, kt_err *e)
         }
         c->meridian = fmod(fmod(c->meridian, 180) + 180, 180);
         rc = auto_maps(c, e);
+        if (rc == KT_OK) rc = kt_curvrun_band_finish(c, e);
         if (rc == KT_OK) rc = kt_curvrun_write_tables(c, e);
+        if (rc == KT_OK) rc = kt_curvrun_band_write(c, e);
     }
     if (rc == KT_OK && o->run_dir) rc = kt_curvrun_write_pvd(c, e);
     if (rc == KT_OK && o->report) rc = kt_curvrun_write_report(c, e);

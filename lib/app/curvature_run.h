@@ -28,6 +28,8 @@ typedef struct kt_curv_opts {
     int step_sel;            /* --step N: step 0 and step N only (-1: every step) */
     double arc_sel;          /* --arc DEG: step 0 and the step with DEG of arc (NaN: none) */
     int eye_os;              /* --eye OS: the report draws a left eye (default OD) */
+    const char *sens;        /* --sens FILE: finite-difference derivatives of the fd quantities */
+    int no_bands;            /* --no-uncertainty: no bands even when RUN/uncertainty.tsv exists */
 } kt_curv_opts;
 
 void kt_curv_opts_default(kt_curv_opts *o);

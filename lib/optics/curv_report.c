@@ -49,7 +49,8 @@ static const char CSS[] =
     ".verdict{font-size:16px;font-weight:600;margin:14px 0 0;padding:10px 14px;border-radius:8px;background:#fff;border-left:6px solid #c0392b}\n"
     ".verdict.ok{border-left-color:#27ae60}\n"
     ".strip{display:flex;flex-wrap:wrap;gap:8px}.strip figure{flex:0 1 210px;padding:6px}\n"
-    ".nsti{font-size:15px;font-weight:700;fill:#18324a}.bar{stroke:#1d232a;stroke-width:3}\n";
+    ".nsti{font-size:15px;font-weight:700;fill:#18324a}.bar{stroke:#1d232a;stroke-width:3}\n"
+    ".band{fill:#2c3e50;fill-opacity:.14;stroke:none}.torn{fill:#c0392b;fill-opacity:.75}\n";
 
 /* ---------------------------------------------------------------- small helpers */
 
@@ -321,8 +322,10 @@ static void plan_section(FILE *f, const kt_report *r)
 
 /* ---------------------------------------------------------------- plots against step */
 
+/* band_lo/band_hi (NULL: none): a shaded 90% band drawn under the series. */
 static int step_plot(FILE *f, const kt_report *r, const char *label, int nser, const double *const *y,
-                     const char *const *name, const char *ytitle, kt_err *e)
+                     const char *const *name, const char *ytitle, const double *band_lo, const double *band_hi,
+                     kt_err *e)
 {
     const double W = 560, H = 300;
     int n = r->nstep;
@@ -330,6 +333,8 @@ static int step_plot(FILE *f, const kt_report *r, const char *label, int nser, c
     for (int k = 0; k < nser; k++)
         for (int i = 0; i < n; i++)
             if (isfinite(y[k][i])) lo = fmin(lo, y[k][i]), hi = fmax(hi, y[k][i]);
+    for (int i = 0; band_lo && i < n; i++)
+        if (isfinite(band_lo[i]) && isfinite(band_hi[i])) lo = fmin(lo, band_lo[i]), hi = fmax(hi, band_hi[i]);
     kt_svg_nice_range(&lo, &hi, 5);
     kt_svg_plot p = {70, 12, W - 90, H - 70, 0, n > 1 ? r->num[n - 1] : 1, lo, hi};
     double *x = kt_calloc(n > 0 ? n : 1, sizeof(double), e);
@@ -345,6 +350,22 @@ static int step_plot(FILE *f, const kt_report *r, const char *label, int nser, c
                 kt_svg_text(f, kt_svg_px(&p, v), p.y + p.h + 30, "middle", "small", "%.0f\xC2\xB0", r->step[i].arc);
     kt_svg_text(f, p.x + p.w / 2, p.y + p.h + 50, "middle", "axtitle",
                 arcs ? "step (above) and degrees of arc opened per incision (below)" : "step");
+    if (band_lo) { /* the polygon: lo forwards, hi backwards, steps with a finite band only */
+        double *xy = kt_calloc((size_t)4 * (n > 0 ? n : 1), sizeof(double), e);
+        if (!xy) {
+            free(x);
+            return e->code;
+        }
+        int m = 0;
+        for (int i = 0; i < n; i++)
+            if (isfinite(band_lo[i]) && isfinite(band_hi[i]))
+                xy[2 * m] = kt_svg_px(&p, x[i]), xy[2 * m + 1] = kt_svg_py(&p, band_lo[i]), m++;
+        for (int i = n - 1; i >= 0; i--)
+            if (isfinite(band_lo[i]) && isfinite(band_hi[i]))
+                xy[2 * m] = kt_svg_px(&p, x[i]), xy[2 * m + 1] = kt_svg_py(&p, band_hi[i]), m++;
+        if (m >= 4) kt_svg_poly(f, xy, m, 1, "band");
+        free(xy);
+    }
     for (int k = 0; k < nser; k++) {
         char cls[8];
         snprintf(cls, sizeof cls, "s%d", (k % 5) + 1); /* the style sheet has series s1..s5 */
@@ -374,15 +395,18 @@ static int step_plots(FILE *f, const kt_report *r, kt_err *e)
     snprintf(l1, sizeof l1, "flattening of the incised meridian (%.0f\xC2\xB0)", axis180(r->meridian));
     snprintf(l2, sizeof l2, "steepening of the orthogonal one (%.0f\xC2\xB0)", axis180(r->meridian + 90));
     const char *n1[] = {l1, l2, "SIA"};
-    int rc = step_plot(f, r, "flattening, steepening and SIA against step", 3, y1, n1, "dioptres", e);
+    int rc = step_plot(f, r, "flattening, steepening and SIA against step", 3, y1, n1, "dioptres", r->sia_lo,
+                       r->sia_hi, e);
     fprintf(f, "<figcaption><b>Flattening</b> of the incised meridian (%.0f&deg;) and <b>steepening</b> of the "
                "orthogonal one, both against step 0, and the magnitude of the <b>surgically induced "
-               "astigmatism</b> (SIA, vector difference). Their ratio is the coupling ratio.</figcaption></figure>\n<figure>",
-            r->meridian);
+               "astigmatism</b> (SIA, vector difference). Their ratio is the coupling ratio.%s</figcaption></figure>\n<figure>",
+            r->meridian, r->sia_lo ? " The shaded band is the SIA's first-order 90% interval from the uncertainty of "
+                                     "the model's inputs (section 4b)." : "");
     int have_tot = isfinite(tcyl[0]);
     const double *y2[] = {cyl, tcyl};
     const char *n2[] = {"anterior (keratometric) cylinder", "total corneal cylinder"};
-    if (rc == KT_OK) rc = step_plot(f, r, "corneal cylinder against step", have_tot ? 2 : 1, y2, n2, "cylinder (D)", e);
+    if (rc == KT_OK)
+        rc = step_plot(f, r, "corneal cylinder against step", have_tot ? 2 : 1, y2, n2, "cylinder (D)", NULL, NULL, e);
     fputs("<figcaption><b>Corneal cylinder</b> as the keratometer reads it (anterior surface, index 1.3375)", f);
     if (have_tot)
         fprintf(f, " and the <b>total corneal astigmatism</b> (anterior + posterior surface, thick lens, indices "
@@ -395,6 +419,42 @@ static int step_plots(FILE *f, const kt_report *r, kt_err *e)
     }
     free(v);
     return rc;
+}
+
+/* The tornado chart: each quantity's contribution |dSIA/dp| sd_p to the SIA's sd at the last
+ * step, largest first. */
+static void tornado(FILE *f, const kt_report *r)
+{
+    const kt_report_step *sl = r->step + r->nstep - 1;
+    const double W = 560, rowh = 26, top = 16, left = 150, right = 70;
+    double H = top + rowh * r->ntorn + 44, vmax = 0;
+    for (int k = 0; k < r->ntorn; k++) vmax = fmax(vmax, r->torn_val[k]);
+    double lo = 0, hi = vmax > 0 ? vmax : 1;
+    kt_svg_nice_range(&lo, &hi, 5);
+    kt_svg_plot p = {left, top, W - left - right, rowh * r->ntorn, 0, hi, 0, 1};
+    fputs("<h2>4b. How sure: the SIA's band</h2>\n<div class=\"row\">\n<figure id=\"tornado\" style=\"flex:0 1 640px\">", f);
+    kt_svg_begin(f, W, H, "contribution of each uncertain quantity to the SIA's standard deviation");
+    double st = kt_svg_nice_step(hi, 5);
+    for (double v = 0; v <= hi + 1e-12; v += st) {
+        kt_svg_line(f, kt_svg_px(&p, v), p.y, kt_svg_px(&p, v), p.y + p.h, v == 0 ? "zero" : "grid");
+        kt_svg_text(f, kt_svg_px(&p, v), p.y + p.h + 16, "middle", "tick", "%.2f", v);
+    }
+    for (int k = 0; k < r->ntorn; k++) {
+        double y = p.y + rowh * k + 4, w = kt_svg_px(&p, r->torn_val[k]) - p.x;
+        fprintf(f, "<rect class=\"torn\" x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\"/>\n", p.x, y,
+                w > 0 ? w : 0, rowh - 8);
+        kt_svg_text(f, p.x - 8, y + rowh / 2, "end", "lbl", "%s", r->torn_name[k]);
+        kt_svg_text(f, p.x + (w > 0 ? w : 0) + 6, y + rowh / 2, "start", "lbl", "%.3f D", r->torn_val[k]);
+    }
+    kt_svg_text(f, p.x + p.w / 2, p.y + p.h + 36, "middle", "axtitle", "contribution to the SIA's sd at the last step (D)");
+    kt_svg_end(f);
+    double lo90 = r->sia_lo ? r->sia_lo[r->nstep - 1] : NAN, hi90 = r->sia_hi ? r->sia_hi[r->nstep - 1] : NAN;
+    fprintf(f, "<figcaption><b>Which input matters most.</b> SIA %.2f D (90%%: %.2f&ndash;%.2f D), standard deviation "
+               "%.2f D at the last step: each bar is one uncertain input's share, |dSIA/dp| &times; sd<sub>p</sub>, "
+               "from the derivative of the solution (augsolve --uncertainty) carried through this keratometry. The "
+               "inputs are taken as independent, so the shares add in squares. It is a first-order (linear) band: the "
+               "sampling study (plans/studies/uq) says how far it holds.</figcaption></figure>\n</div>\n",
+            sl->va.sia.mag, lo90, hi90, r->sia_sd);
 }
 
 /* ---------------------------------------------------------------- double-angle plot */
@@ -636,6 +696,10 @@ static void cards(FILE *f, const kt_report *r)
     card(f, v, "cylinder after the last step");
     snprintf(v, sizeof v, "%.2f D @ %.0f\xC2\xB0", sl->va.sia.mag, axis180(sl->va.sia.axis));
     card(f, v, "surgically induced astigmatism");
+    if (r->sia_lo && isfinite(r->sia_lo[r->nstep - 1])) {
+        snprintf(v, sizeof v, "%.2f\xE2\x80\x93%.2f D", r->sia_lo[r->nstep - 1], r->sia_hi[r->nstep - 1]);
+        card(f, v, "SIA, 90% band (first order)");
+    }
     if (r->has_target) {
         snprintf(v, sizeof v, "%.2f", sl->va.ci);
         card(f, v, "correction index (1 = on target)");
@@ -680,6 +744,7 @@ static int page(FILE *f, const kt_report *r, kt_err *e)
     if (rc != KT_OK) return rc;
     step_table(f, r);
     if ((rc = strip(f, r, e)) != KT_OK) return rc;
+    if (r->ntorn > 0) tornado(f, r);
     fputs("<h2>5. Astigmatism as vectors</h2>\n<div class=\"row\">\n<figure style=\"flex:0 1 460px\">", f);
     double_angle(f, r);
     fputs("<figcaption><b>Double-angle plot.</b> Astigmatism is a vector with a 180&deg; period, so each "

@@ -74,6 +74,11 @@ typedef struct kt_report {
     const double *map_rad;            /* nstep their radii, mm */
     double apex_z;                    /* step 0's fitted apex height, mm (eye frame) */
     int eye_os;                       /* 1: a left eye (OS), 0: right (OD) */
+    const double *sia_lo, *sia_hi;   /* nstep: the SIA's 90% band (NULL: no bands) */
+    int ntorn;                        /* quantities in the tornado chart (0: none) */
+    const char *const *torn_name;     /* ntorn, largest first */
+    const double *torn_val;           /* their contributions to the SIA's sd at the last step, D */
+    double sia_sd;                    /* the SIA's sd at the last step, D */
     int nprov;                        /* provenance rows from run.yaml: key, value pairs */
     const char *const *prov;
 } kt_report;
