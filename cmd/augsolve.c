@@ -38,6 +38,10 @@ static const char *USAGE =
     "                        predicted nonzeros exceed R times METIS's on the intact block\n"
     "                        (default 4; 0: never) or its flops those of a fresh\n"
     "                        factorization at every step\n"
+    "  --uncertainty         also the derivative of every written step's displacement with\n"
+    "                        respect to each uncertain quantity of the scene (its\n"
+    "                        uncertainty section): fields dudp_<q> in the step VTKs and\n"
+    "                        RUN_DIR/uncertainty.tsv (not with --method newton)\n"
     "  --verify              also factor K from scratch each step and compare\n"
     "  --verify-tol T        largest accepted relative difference (default 1e-8)\n"
     "  --no-vtk              write no step VTKs (benchmarks)\n"
@@ -60,7 +64,7 @@ static int usage_error(const char *msg, const char *arg)
 
 enum { O_SCENE = 256, O_METHOD, O_TOL, O_RESTART, O_MAXIT, O_PRECOND, O_ORDERING, O_FACTOR,
        O_REFACTOR, O_SYNC, O_OUTPUT, O_VERIFY, O_VTOL, O_NOVTK, O_BINARY, O_STEPS,
-       O_MAXRATIO };
+       O_MAXRATIO, O_UNC };
 
 /* One option; returns 0, or the exit code of a usage error. */
 static int option(int c, const char *arg, kt_aug_run_opts *o)
@@ -93,6 +97,7 @@ static int option(int c, const char *arg, kt_aug_run_opts *o)
         if (strcmp(arg, "all") != 0) strcpy(a->output, arg);
         return 0;
     case O_VERIFY: a->verify = 1; return 0;
+    case O_UNC: o->uncertainty = 1; return 0;
     case O_VTOL:
         return kt_parse_number(arg, &a->verify_tol) || !(a->verify_tol > 0)
                    ? usage_error("--verify-tol expects a positive number", arg) : 0;
@@ -120,6 +125,7 @@ static int tool_main(int argc, char **argv)
         {"no-vtk", no_argument, NULL, O_NOVTK}, {"binary", no_argument, NULL, O_BINARY},
         {"steps", required_argument, NULL, O_STEPS},
         {"plan-max-ratio", required_argument, NULL, O_MAXRATIO},
+        {"uncertainty", no_argument, NULL, O_UNC},
         {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
     kt_aug_run_opts o;
