@@ -16,6 +16,9 @@
 #   planned    issue 11: the planned method against refactor with METIS, refactor in
 #              mesh-prep's order and Jacobi-PCG on the beam 5x5x1024 cut, the eye LRI plan and
 #              the bunny cut; the table per case comes from bench_table (lib/io/benchtab.c)
+#   uncertainty issue 21: augsolve --uncertainty against the same plan without it on the demo
+#              (plans/eye.yaml, plans/lri-paired-60.yaml): CPU and wall seconds, peak memory,
+#              where the derivatives' time goes
 # The parts live in scripts/bench/PART.sh (their helpers in common.sh, the report in report.sh)
 # and their longer awk programs in scripts/bench/awk/; tests/bench/smoke.sh (ctest -L bench) runs
 # every part with --smoke and checks its tables.
@@ -37,7 +40,7 @@ set -uo pipefail
 shopt -s nullglob
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-PARTS_ALL="bandwidth paper ordering tradeoff stability planned"
+PARTS_ALL="bandwidth paper ordering tradeoff stability planned uncertainty"
 
 usage() {
     awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "${BASH_SOURCE[0]}"
@@ -103,7 +106,7 @@ now() { date +%s.%N; }
 
 BENCH=$ROOT/scripts/bench
 # the parts, their helpers and their awk programs (scripts/bench/awk/)
-for f in common bandwidth paper ordering tradeoff stability planned report; do
+for f in common bandwidth paper ordering tradeoff stability planned uncertainty report; do
     # shellcheck source=/dev/null
     . "$BENCH/$f.sh"
 done
