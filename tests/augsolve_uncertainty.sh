@@ -161,7 +161,7 @@ if float(got["iop"][2]) != 15 or float(got["E_inplane"][2]) != 2:
 if "uncertainty: on" not in open(f"{tmp}/base/run.yaml").read():
     fail("run.yaml does not say uncertainty: on")
 import os
-if os.path.exists(f"{tmp}/plain/uncertainty.tsv") or "uncertainty" in open(f"{tmp}/plain/run.yaml").read():
+if os.path.exists(f"{tmp}/plain/uncertainty.tsv") or "\nuncertainty:" in open(f"{tmp}/plain/run.yaml").read():
     fail("a run without --uncertainty has an uncertainty.tsv or says uncertainty in run.yaml")
 t = lambda r: [l.split("\t")[:6] for l in open(f"{tmp}/{r}/steps.tsv")]
 if t("plain") != t("base"):
