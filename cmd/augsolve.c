@@ -40,6 +40,10 @@ static const char *USAGE =
     "                        factorization at every step\n"
     "  --plan-panel N        planned: store the increments' block in panels of N columns\n"
     "                        (default 256; 0: CHOLMOD's own supernodes, one square)\n"
+    "  --uncertainty         also the derivative of every written step's displacement with\n"
+    "                        respect to each uncertain quantity of the scene (its\n"
+    "                        uncertainty section): fields dudp_<q> in the step VTKs and\n"
+    "                        RUN_DIR/uncertainty.tsv (not with --method newton)\n"
     "  --verify              also factor K from scratch each step and compare\n"
     "  --verify-tol T        largest accepted relative difference (default 1e-8)\n"
     "  --no-vtk              write no step VTKs (benchmarks)\n"
@@ -62,7 +66,7 @@ static int usage_error(const char *msg, const char *arg)
 
 enum { O_SCENE = 256, O_METHOD, O_TOL, O_RESTART, O_MAXIT, O_PRECOND, O_ORDERING, O_FACTOR,
        O_REFACTOR, O_SYNC, O_OUTPUT, O_VERIFY, O_VTOL, O_NOVTK, O_BINARY, O_STEPS,
-       O_MAXRATIO, O_PANEL };
+       O_MAXRATIO, O_PANEL, O_UNC };
 
 /* One option; returns 0, or the exit code of a usage error. */
 static int option(int c, const char *arg, kt_aug_run_opts *o)
@@ -95,6 +99,7 @@ static int option(int c, const char *arg, kt_aug_run_opts *o)
         if (strcmp(arg, "all") != 0) strcpy(a->output, arg);
         return 0;
     case O_VERIFY: a->verify = 1; return 0;
+    case O_UNC: o->uncertainty = 1; return 0;
     case O_VTOL:
         return kt_parse_number(arg, &a->verify_tol) || !(a->verify_tol > 0)
                    ? usage_error("--verify-tol expects a positive number", arg) : 0;
@@ -126,6 +131,7 @@ static int tool_main(int argc, char **argv)
         {"steps", required_argument, NULL, O_STEPS},
         {"plan-max-ratio", required_argument, NULL, O_MAXRATIO},
         {"plan-panel", required_argument, NULL, O_PANEL},
+        {"uncertainty", no_argument, NULL, O_UNC},
         {"quiet", no_argument, NULL, 'q'}, {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
     kt_aug_run_opts o;

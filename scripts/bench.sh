@@ -19,6 +19,9 @@
 #   nonlin     (only with --only nonlin: long) issue 22: the planned method against the
 #              geometrically nonlinear reference (bench_nonlin) on paired and single LRI arcs:
 #              SIA, flattening, steepening, coupling, mean K, times (scripts/bench/nonlin.sh)
+#   uncertainty issue 21: augsolve --uncertainty against the same plan without it on the demo
+#              (plans/eye.yaml, plans/lri-paired-60.yaml): CPU and wall seconds, peak memory,
+#              where the derivatives' time goes
 # The parts live in scripts/bench/PART.sh (their helpers in common.sh, the report in report.sh)
 # and their longer awk programs in scripts/bench/awk/; tests/bench/smoke.sh (ctest -L bench) runs
 # every part with --smoke and checks its tables.
@@ -40,7 +43,7 @@ set -uo pipefail
 shopt -s nullglob
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-PARTS_ALL="bandwidth paper ordering tradeoff stability planned"
+PARTS_ALL="bandwidth paper ordering tradeoff stability planned uncertainty"
 PARTS_OPT="nonlin"   # valid with --only, not run by default (long)
 
 usage() {
@@ -107,7 +110,7 @@ now() { date +%s.%N; }
 
 BENCH=$ROOT/scripts/bench
 # the parts, their helpers and their awk programs (scripts/bench/awk/)
-for f in common bandwidth paper ordering tradeoff stability planned nonlin report; do
+for f in common bandwidth paper ordering tradeoff stability planned nonlin uncertainty report; do
     # shellcheck source=/dev/null
     . "$BENCH/$f.sh"
 done

@@ -23,6 +23,7 @@
 #include "physics.h"
 #include "runrec.h"
 #include "scene.h"
+#include "sens.h"
 #include "vtk.h"
 
 /* Everything the run holds, freed in one place. */
@@ -31,6 +32,7 @@ typedef struct run {
     kt_scene scene;
     kt_fem_problem fem;
     kt_physics phys;            /* per-tet physics; fem.mats.td points into it */
+    kt_fem_sens sens;           /* --uncertainty: the quantities and their derivative data */
     kt_aug_problem prob;
     FILE *edits;
     kt_edits_reader rd;
@@ -58,6 +60,7 @@ static void run_free(run *r)
     if (r->tsv_open) kt_out_abort(&r->tsv);
     kt_fem_problem_free(&r->fem);
     kt_physics_free(&r->phys);
+    kt_fem_sens_free(&r->sens);
     kt_mesh_free(&r->mesh);
     if (r->locked) {
         unlink(r->lock_path);
@@ -133,6 +136,8 @@ static int claim_run_dir(run *r, const char *dir, kt_err *e)
     unlink(path);
     snprintf(path, sizeof path, "%s/steps.tsv", dir);
     unlink(path);
+    snprintf(path, sizeof path, "%s/uncertainty.tsv", dir);
+    unlink(path);
     return clear_run_dir(dir, was_run, e);
 }
 
@@ -183,9 +188,15 @@ static int bind_problem(run *r, const char *scene, kt_err *e)
 
 /* The scene's physics on the bound problem (kt_physics_finish: the prestress of the measured
  * geometry under its loads); the plan's prescribed values follow the problem's. */
-static int solve_physics(run *r, kt_err *e)
+static int solve_physics(run *r, const kt_aug_run_opts *o, kt_err *e)
 {
-    if (kt_physics_finish(&r->scene, &r->mesh, &r->fem, &r->phys, e)) return e->code;
+    if (o->uncertainty) {
+        kt_fem_sens_plan(&r->scene, &r->fem, &r->sens);
+        if (kt_physics_finish_sens(&r->scene, &r->mesh, &r->fem, &r->phys, &r->sens, e))
+            return e->code;
+    } else if (kt_physics_finish(&r->scene, &r->mesh, &r->fem, &r->phys, e)) {
+        return e->code;
+    }
     if (r->phys.prestressed) {
         kt_edits_plan_zero_values(&r->plan);
         kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
@@ -209,10 +220,17 @@ static int write_vtk(run *r, const kt_aug_run_opts *o, kt_err *e)
     double *origin = kt_calloc((size_t)m->nn, sizeof(double), e);
     if (!origin) return e->code;
     for (int i = 0; i < m->nn; i++) origin[i] = org[i] + 1;
-    kt_vtk_field f[3 + KT_PHYSICS_NFIELD] = {{"displacement", 3, 0, 0, (double *)kt_solver_u(r->sv)},
-                                            {"origin", 1, 0, 1, origin},
-                                            {"reaction", 3, 0, 0, (double *)react}};
+    kt_vtk_field f[3 + KT_UQ_N + KT_PHYSICS_NFIELD] = {
+        {"displacement", 3, 0, 0, (double *)kt_solver_u(r->sv)},
+        {"origin", 1, 0, 1, origin},
+        {"reaction", 3, 0, 0, (double *)react}};
     int nf = react ? 3 : 2;
+    for (int k = 0; o->uncertainty && k < r->sens.nd; k++, nf++) { /* du/dq, mm per unit of q */
+        memset(&f[nf], 0, sizeof f[nf]);
+        snprintf(f[nf].name, sizeof f[nf].name, "dudp_%s", kt_uq_name(r->sens.d[k].q));
+        f[nf].ncomp = 3;
+        f[nf].v = (double *)kt_solver_dudp(r->sv, k);
+    }
     for (int k = 0; k < r->phys.ncell; k++) f[nf++] = r->phys.cell[k];
     kt_vtk_write_tets(path, m, f, nf, o->binary, e);
     free(origin);
@@ -305,7 +323,29 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
     if (kt_solver_fallback(r->sv)) yaml_str(out.f, "fallback", kt_solver_fallback(r->sv));
     if (o->steps) yaml_str(out.f, "written_steps", o->steps);
+    if (o->uncertainty) fputs("uncertainty: on\n", out.f);
     if (kt_runrec_write(out.f, o->run_dir, &r->scene, e)) return kt_out_abort(&out), e->code;
+    return kt_out_commit(&out, e);
+}
+
+/* uncertainty.tsv (augsolve(1), FILES): every quantity of the scene's uncertainty section, its
+ * value and sd, and how its band is found. */
+static int write_uncertainty(run *r, const kt_aug_run_opts *o, kt_err *e)
+{
+    if (!o->uncertainty) return KT_OK;
+    static const char *const METHOD[] = {"none", "derivative", "fd"};
+    char path[PATH_MAX];
+    snprintf(path, sizeof path, "%s/uncertainty.tsv", o->run_dir);
+    kt_out out;
+    if (kt_out_open(&out, path, e)) return e->code;
+    fputs("param\tunit\tvalue\tsd\tmethod\tsource\n", out.f);
+    for (int q = 0; q < KT_UQ_N; q++) {
+        fprintf(out.f, "%s\t%s\t", kt_uq_name(q), kt_uq_unit(q));
+        tsv_num(out.f, r->sens.value[q], "%.6g");
+        fputc('\t', out.f);
+        tsv_num(out.f, r->sens.sd[q], "%.6g");
+        fprintf(out.f, "\t%s\t%s\n", METHOD[r->sens.method[q]], kt_uq_source(q));
+    }
     return kt_out_commit(&out, e);
 }
 
@@ -377,7 +417,7 @@ static int write_step(run *r, const kt_aug_run_opts *o, kt_err *e)
 /* Every step of the plan through the front door (solver.h); *steps counts those applied. */
 static int solve_steps(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
 {
-    kt_solver_opts so = {o->aug, o->plan_max_ratio, r->want};
+    kt_solver_opts so = {o->aug, o->plan_max_ratio, r->want, o->uncertainty ? &r->sens : NULL};
     if (kt_solver_create(&r->sv, &r->prob, &r->plan, &r->final, &so, e)) return e->code;
     kt_mesh_free(&r->final);
     const char *why = kt_solver_fallback(r->sv);
@@ -392,6 +432,9 @@ static int solve_steps(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
         (*steps)++;
         if (solved && write_step(r, o, e)) return e->code;
     }
+    if (o->uncertainty)
+        kt_log(o->aug.quiet, "augsolve: --uncertainty: %d derivative quantities, %.2f s in the "
+               "steps' derivatives\n", r->sens.nd, kt_solver_t_sens(r->sv));
     return KT_OK;
 }
 
@@ -405,6 +448,9 @@ static int check_inputs(run *r, const kt_aug_run_opts *o, kt_err *e)
     if (o->aug.method == KT_AUG_AUGMENTED && o->aug.factor == KT_AUG_FACTOR_SIMPLICIAL)
         return kt_fail(e, KT_EINPUT, "--factor simplicial: the augmented method factors the "
                        "intact stiffness supernodally (its W columns are kept by supernode)");
+    if (o->aug.method == KT_AUG_NEWTON && o->uncertainty)
+        return kt_fail(e, KT_EINPUT, "--uncertainty: --method newton gives no derivatives (they "
+                       "are of the linearized problem: use the planned method or a stream method)");
     if (o->aug.method == KT_AUG_NEWTON && o->aug.verify)
         return kt_fail(e, KT_EINPUT, "--verify: --method newton is the geometrically nonlinear "
                        "reference, not expected to equal a linear fresh factorization (compare "
@@ -434,13 +480,16 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     if (!r) return e->code;
     int steps = 0;
     r->quiet = o.aug.quiet;
-    if (check_inputs(r, &o, e) || solve_physics(r, e) || solve_steps(r, &o, &steps, e))
+    if (check_inputs(r, &o, e) || solve_physics(r, &o, e) || solve_steps(r, &o, &steps, e) ||
+        write_uncertainty(r, &o, e))
         goto done;
     if (kt_out_commit(&r->tsv, e)) goto done;
     r->tsv_open = 0;
     if (write_run_yaml(r, &o, steps, e)) { /* no result without its run.yaml: take back the table */
         char path[PATH_MAX];
         snprintf(path, sizeof path, "%s/steps.tsv", o.run_dir);
+        unlink(path);
+        snprintf(path, sizeof path, "%s/uncertainty.tsv", o.run_dir);
         unlink(path);
     }
     if (!e->code && !o.aug.quiet && isatty(STDERR_FILENO)) fputc('\n', stderr);

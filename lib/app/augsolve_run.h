@@ -12,6 +12,7 @@ typedef struct kt_aug_run_opts {
     const char *steps;        /* NULL: write every step; else a list "1,4,7-9" (step 0 always) */
     double plan_max_ratio;    /* planned: refactor with METIS beyond this factor-size ratio
                                  (kt_plan_factor_build; default KT_PLAN_MAX_RATIO, 0: never) */
+    int uncertainty;          /* --uncertainty: dudp_<q> fields and uncertainty.tsv */
     kt_aug_opts aug;
 } kt_aug_run_opts;
 

@@ -381,10 +381,14 @@ int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *
     if (kt_fem_element_C(m, mats, tet, C, e)) return e->code;
     kt_tet_rule rule = kt_fem_rule(m->order, x);
     memset(Ke, 0, sizeof(double) * ld * ld);
+    int material = 0; /* a zero C (a derivative's tet that q does not reach, sens.h) adds nothing */
+    for (int i = 0; i < 36 && !material; i++) material = C[i] != 0;
     for (int q = 0; q < rule.n; q++) {
         if (kt_fem_point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
-        kt_fem_strain_matrix(nv, g, NULL, B);
-        kt_fem_add_btcb(nv, B, C, rule.w[q] * det, Ke);
+        if (material) {
+            kt_fem_strain_matrix(nv, g, NULL, B);
+            kt_fem_add_btcb(nv, B, C, rule.w[q] * det, Ke);
+        }
         if (td->sig)
             kt_fem_add_sigma(nv, g, td->sig + ((size_t)tet * KT_FEM_NQ + q) * 6, rule.w[q] * det, Ke);
     }

@@ -60,17 +60,15 @@ static double residual_scale(const cholmod_sparse *A, const double *x, const dou
     return norm2(s, n);
 }
 
-/* u = A \ b, checked: ||A u - b|| <= 1e-10 || |A||u| + |b| ||. The plain ||A u - b|| / ||b||
- * cannot meet 1e-10 on a slender body: a double u has a residual floor near
+/* u = A \ b with the factor L, checked: ||A u - b|| <= 1e-10 || |A||u| + |b| ||. The plain
+ * ||A u - b|| / ||b|| cannot meet 1e-10 on a slender body: a double u has a residual floor near
  * eps || |A||u| ||, and a bending cantilever's |A||u| is 1e5 times |b| (see test_fem_beam). */
-static int solve_checked(cholmod_sparse *A, double *b, double *u, cholmod_common *c, kt_err *e)
+static int solve_with(cholmod_sparse *A, cholmod_factor *L, double *b, double *u,
+                      cholmod_common *c, kt_err *e)
 {
     size_t n = A->nrow;
-    cholmod_factor *L = kt_chol_analyze_factor(A, c, "direct solve", e);
-    if (!L) return e->code;
     cholmod_dense B = kt_chol_column(b, n);
     cholmod_dense *X = cholmod_solve(CHOLMOD_A, L, &B, c);
-    cholmod_free_factor(&L, c);
     if (!X) return kt_fail(e, KT_ERUN, "CHOLMOD solve failed (status %d)", c->status);
     double *r = kt_calloc(n, sizeof(double), e), *s = kt_calloc(n, sizeof(double), e);
     if (e->code) {
@@ -95,24 +93,41 @@ static int solve_checked(cholmod_sparse *A, double *b, double *u, cholmod_common
     return KT_OK;
 }
 
-int kt_fem_solve(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
-                 const double *g, const double *f, double *u, cholmod_common *c, kt_err *e)
+int kt_fem_solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
+                      const double *g, const double *f, double *u, int nmore,
+                      kt_fem_more_rhs more, void *ctx, double *umore, cholmod_common *c,
+                      kt_err *e)
 {
     cholmod_sparse *K = kt_fem_assemble(m, mats, NULL, c, e);
     if (!K) return e->code;
     size_t n = K->nrow;
+    cholmod_factor *L = NULL;
     double *b = kt_calloc(n, sizeof(double), e);
-    if (!b) {
-        cholmod_free_sparse(&K, c);
-        return e->code;
-    }
+    if (!b) goto done;
     memcpy(b, f, n * sizeof(double));
     if (fixed) {
         kt_fem_lift(K, fixed, g, b, e);
         kt_fem_apply_fixed(K, fixed);
     }
-    if (!e->code) solve_checked(K, b, u, c, e);
+    if (e->code || !(L = kt_chol_analyze_factor(K, c, "direct solve", e)) ||
+        solve_with(K, L, b, u, c, e))
+        goto done;
+    for (int k = 0; k < nmore; k++) { /* homogeneous Dirichlet data: the fixed rows are 0 */
+        memset(b, 0, n * sizeof(double));
+        if (more(ctx, k, u, b, e)) goto done;
+        for (size_t i = 0; fixed && i < n; i++)
+            if (fixed[i]) b[i] = 0;
+        if (solve_with(K, L, b, umore + k * n, c, e)) goto done;
+    }
+done:
     free(b);
+    if (L) cholmod_free_factor(&L, c);
     cholmod_free_sparse(&K, c);
     return e->code;
+}
+
+int kt_fem_solve(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
+                 const double *g, const double *f, double *u, cholmod_common *c, kt_err *e)
+{
+    return kt_fem_solve_more(m, mats, fixed, g, f, u, 0, NULL, NULL, NULL, c, e);
 }

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "eye.h"
+#include "sens.h"
 
 void kt_physics_free(kt_physics *ph)
 {
@@ -117,7 +118,7 @@ static double apex_stress(const kt_mesh *m, const double *sig)
 }
 
 static int prestress(const kt_mesh *m, const kt_fem_problem *fp, kt_physics *ph,
-                     cholmod_common *c, kt_err *e)
+                     cholmod_common *c, kt_fem_sens *S, kt_err *e)
 {
     size_t n = 3 * (size_t)m->nn;
     double *f = kt_calloc(n, sizeof(double), e), *u = kt_calloc(n, sizeof(double), e);
@@ -130,7 +131,9 @@ static int prestress(const kt_mesh *m, const kt_fem_problem *fp, kt_physics *ph,
     kt_fem_tetdata mat_only = {m->ne, ph->td.C, NULL, NULL};
     kt_materials mm = fp->mats;
     mm.td = ph->td.C ? &mat_only : NULL;
-    if (!e->code && kt_fem_solve(m, &mm, fp->fixed, fp->g, f, u, c, e) == KT_OK &&
+    if (!e->code &&
+        (S && S->nd ? kt_fem_sens_prestress(S, m, fp, &mm, f, u, c, e)
+                    : kt_fem_solve(m, &mm, fp->fixed, fp->g, f, u, c, e)) == KT_OK &&
         kt_fem_stress(m, &mm, u, ph->td.sig, e) == KT_OK) {
         ph->prestressed = 1;
         ph->sig_apex = apex_stress(m, ph->td.sig);
@@ -140,8 +143,9 @@ static int prestress(const kt_mesh *m, const kt_fem_problem *fp, kt_physics *ph,
     return e->code;
 }
 
-int kt_physics_build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
-                     cholmod_common *c, kt_err *e)
+/* kt_physics_build, and with S the derivative data of S's quantities (sens.h). */
+static int build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                 cholmod_common *c, kt_fem_sens *S, kt_err *e)
 {
     memset(ph, 0, sizeof *ph);
     double t0 = kt_now();
@@ -151,19 +155,26 @@ int kt_physics_build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt
         return kt_fail(e, KT_EINPUT, "%s: model fibre materials need the eye model", s->path);
     if (ph->fibre ? fibre_matrices(s, m, &fp->mats, ph, e) : iso_all(m, &fp->mats, ph, e))
         return e->code;
-    if (s->reference == KT_REFERENCE_PRESTRESSED && prestress(m, fp, ph, c, e)) return e->code;
+    if (S && kt_physics_sens_tensors(s, m, ph, S, e)) return e->code;
+    if (s->reference == KT_REFERENCE_PRESTRESSED && prestress(m, fp, ph, c, S, e)) return e->code;
     fp->mats.td = (ph->td.C || ph->td.sig) ? &ph->td : NULL;
     if (kt_physics_cell_fields(ph, m, e)) return e->code;
     ph->t_build = kt_now() - t0;
     return KT_OK;
 }
 
-int kt_physics_finish(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
-                      kt_err *e)
+int kt_physics_build(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                     cholmod_common *c, kt_err *e)
+{
+    return build(s, m, fp, ph, c, NULL, e);
+}
+
+static int finish(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                  kt_fem_sens *S, kt_err *e)
 {
     cholmod_common c;
     cholmod_start(&c);
-    kt_physics_build(s, m, fp, ph, &c, e);
+    build(s, m, fp, ph, &c, S, e);
     cholmod_finish(&c);
     if (e->code) {
         kt_physics_free(ph);
@@ -173,6 +184,25 @@ int kt_physics_finish(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, k
         memset(fp->g, 0, 3 * (size_t)m->nn * sizeof(double));
         for (int k = 0; k < fp->nfix; k++) memset(fp->fix[k].v, 0, sizeof fp->fix[k].v);
     }
+    return KT_OK;
+}
+
+int kt_physics_finish(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
+                      kt_err *e)
+{
+    return finish(s, m, fp, ph, NULL, e);
+}
+
+int kt_physics_finish_sens(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp,
+                           kt_physics *ph, kt_fem_sens *S, kt_err *e)
+{
+    kt_fem_sens_pressures(fp, S);
+    if (finish(s, m, fp, ph, S, e)) {
+        kt_fem_sens_free(S);
+        return e->code;
+    }
+    for (int k = 0; k < S->nd; k++) /* without prestress, iop moves only the loads */
+        S->d[k].dK_zero = S->d[k].q == KT_UQ_IOP && !ph->prestressed;
     return KT_OK;
 }
 

@@ -35,7 +35,10 @@ static const char *const ARCS[] = {"either", "single", "paired", NULL};
 
 double kt_patient_k(double r) { return 337.5 / r; }
 double kt_patient_post_k(double r) { return -KT_PATIENT_N_POST / r; }
-double kt_patient_age_factor(double age) { return 1 + 0.075 * (age - 60) / 10; }
+double kt_patient_age_factor(double age)
+{
+    return 1 + KT_UQ_AGE_SLOPE_VALUE * (age - KT_UQ_AGE_PIVOT) / 10; /* scene.h: one copy */
+}
 
 static const struct { const char *name; double od, os; } SITES[] = {
     {"temporal", 180, 0},         {"nasal", 0, 180},          {"superior", 90, 90},

@@ -70,6 +70,7 @@ int kt_patient_scene(const kt_patient *p, const kt_scene *base, kt_scene *s, kt_
     }
     if (eye->optical_zone >= p->zone) eye->optical_zone = 0.5 * (p->zone + 5);
     double f = kt_patient_age_factor(p->age);
+    s->unc.age = p->age; /* the cornea's moduli are the age rule's: age_slope applies */
     for (int i = 0; i < s->nmat; i++) {
         kt_region_mat *m = &s->mat[i];
         if (strcmp(m->region, "cornea") != 0) continue;

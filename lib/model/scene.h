@@ -69,6 +69,30 @@ typedef struct kt_fixation {
     double below_value;         /* boundary triangles with every vertex at axis <= value (mm) */
 } kt_fixation;
 
+/* The uncertain quantities of the scene's `uncertainty:` section (keratome-scene(5),
+ * UNCERTAINTY; lib/model/scene_unc.c holds their names, units, default standard deviations and
+ * sources). */
+enum { KT_UQ_E_INPLANE = 0, KT_UQ_G_TRANSVERSE, KT_UQ_IOP, KT_UQ_LIMBAL_DENSITY, KT_UQ_THICKNESS,
+       KT_UQ_DEPTH, KT_UQ_AGE_SLOPE, KT_UQ_N };
+enum { KT_UQ_NORMAL = 0, KT_UQ_UNIFORM };
+
+typedef struct kt_uncertainty {
+    double sd[KT_UQ_N];         /* standard deviation in the quantity's unit (kt_uq_unit) */
+    int dist[KT_UQ_N];          /* KT_UQ_NORMAL or KT_UQ_UNIFORM (given by its sd) */
+    double age;                 /* years: the age the cornea's moduli were scaled for
+                                   (age_slope.age, lri-plan's patient), NAN: not age-scaled */
+} kt_uncertainty;
+
+/* The quantity's key, unit (as uncertainty.tsv writes it), default sd, source key. */
+const char *kt_uq_name(int q);
+const char *kt_uq_unit(int q);
+double kt_uq_default_sd(int q);
+const char *kt_uq_source(int q);
+/* The age rule of lri-plan (kt_patient_age_factor): the cornea's moduli times
+ * 1 + KT_UQ_AGE_SLOPE_VALUE (age - 60) / 10 (Li et al. 2024: +0.30 MPa per decade on 4.0). */
+#define KT_UQ_AGE_SLOPE_VALUE 0.075
+#define KT_UQ_AGE_PIVOT 60.0
+
 typedef struct kt_scene {
     char path[1024], dir[1024]; /* the file and its folder */
     char name[KT_NAME_MAX];
@@ -93,6 +117,7 @@ typedef struct kt_scene {
     int reference;              /* KT_REFERENCE_* (loads.reference; default loaded) */
     double reference_tol;       /* mm: shape tolerance of the stress-free iteration
                                    (loads.reference_tolerance; default 3e-5 mm) */
+    kt_uncertainty unc;         /* uncertainty: (defaults when absent) */
 } kt_scene;
 
 /* Load and validate a scene file. Unknown keys, duplicate keys, wrong types, missing or

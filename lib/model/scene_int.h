@@ -17,4 +17,8 @@ kt_yml_bounds kt_scene_range(double lo, double hi, int lo_open, int hi_open);
 void kt_scene_eye_defaults(kt_eye *eye);
 int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e);
 
+/* The uncertainty section (scene_unc.c): defaults, then the entries of node n over them. */
+void kt_scene_unc_defaults(kt_uncertainty *u);
+int kt_scene_parse_uncertainty(kt_yml *y, const yaml_node_t *n, kt_uncertainty *u, kt_err *e);
+
 #endif

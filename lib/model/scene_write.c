@@ -67,6 +67,18 @@ int kt_scene_write_eye(FILE *f, const kt_scene *s, const char *header, kt_err *e
         fprintf(f, "  - {surface: %s, components: %s, value: [%.17g mm, %.17g mm, %.17g mm]}\n", x->surface, comp,
                 x->value[0], x->value[1], x->value[2]);
     }
+    /* the uncertainty section when it differs from the defaults (an age-scaled scene) */
+    int head = 0;
+    for (int q = 0; q < KT_UQ_N; q++) {
+        const kt_uncertainty *u = &s->unc;
+        int age = q == KT_UQ_AGE_SLOPE && isfinite(u->age);
+        if (u->sd[q] == kt_uq_default_sd(q) && u->dist[q] == KT_UQ_NORMAL && !age) continue;
+        if (!head++) fprintf(f, "uncertainty:\n");
+        fprintf(f, "  %s: {sd: %.17g%s", kt_uq_name(q), u->sd[q],
+                u->dist[q] == KT_UQ_UNIFORM ? ", distribution: uniform" : "");
+        if (age) fprintf(f, ", age: %.17g", u->age);
+        fprintf(f, "}\n");
+    }
     if (ferror(f)) return kt_fail(e, KT_ERUN, "writing the scene '%s' failed", s->name);
     return KT_OK;
 }

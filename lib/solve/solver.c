@@ -23,6 +23,11 @@ struct kt_solver {
     unsigned char *on;          /* nn: the output set's nodes (NULL: all) */
     size_t cap;                 /* values u and ref hold room for */
     kt_aug_row row;
+    const kt_aug_problem *prob;
+    const kt_fem_sens *sens;    /* NULL: no derivatives */
+    double *du;                 /* sens->nd x 3 nn: the derivatives as written */
+    size_t ducap;
+    double t_sens;
 };
 
 /* The nodes of the output set on mesh m into on (nn, zeroed here): the surface or region. */
@@ -76,6 +81,31 @@ static int verify(kt_solver *sv, kt_err *e)
     return KT_OK;
 }
 
+/* The step's derivatives: the backend's, or from scratch on its cut mesh and field; NaN off
+ * the output set. */
+static int derivatives(kt_solver *sv, kt_err *e)
+{
+    double t0 = kt_now();
+    int nd = sv->sens->nd;
+    size_t n = 3 * (size_t)sv->v.mesh->nn, need = n * (size_t)(nd ? nd : 1);
+    if (need > sv->ducap) {
+        double *d = kt_realloc(sv->du, need, sizeof(double), e);
+        if (!d) return e->code;
+        sv->du = d;
+        sv->ducap = need;
+    }
+    if (nd == 0) return KT_OK;
+    if (sv->be->dudp ? sv->be->dudp(sv->st, sv->du, e)
+                     : kt_fem_sens_fresh(sv->sens, sv->v.mesh, sv->prob->mats, sv->plan->fixed,
+                                         sv->v.u, sv->du, e))
+        return e->code;
+    for (int k = 0; k < nd; k++)
+        for (size_t i = 0; i < n; i++)
+            if (sv->o.output[0] && !sv->on[i / 3]) sv->du[k * n + i] = NAN;
+    sv->t_sens += kt_now() - t0;
+    return KT_OK;
+}
+
 /* The end of every solved step: the backend's field restricted to the output set, verified,
  * its row. */
 static int finish(kt_solver *sv, kt_err *e)
@@ -88,6 +118,7 @@ static int finish(kt_solver *sv, kt_err *e)
     if (sv->o.output[0] && set_nodes(sv->v.mesh, sv->o.output, sv->on, e)) return e->code;
     for (size_t i = 0; i < n; i++)
         sv->u[i] = !sv->o.output[0] || sv->on[i / 3] ? sv->v.u[i] : NAN;
+    if (sv->sens && derivatives(sv, e)) return e->code;
     return sv->o.verify ? verify(sv, e) : KT_OK;
 }
 
@@ -127,6 +158,15 @@ int kt_solver_create(kt_solver **out, const kt_aug_problem *prob, const kt_edits
     if (!sv) return e->code;
     sv->o = o->aug;
     sv->plan = plan;
+    sv->prob = prob;
+    sv->sens = o->sens;
+    if (o->sens && o->aug.method == KT_AUG_NEWTON) {
+        kt_fail(e, KT_EINPUT, "--uncertainty: --method newton gives no derivatives (the "
+                "derivatives are of the linearized problem: use the planned method or a stream "
+                "method)");
+        kt_solver_free(sv);
+        return e->code;
+    }
     unsigned char *out_final = NULL;
     if (!(sv->want = kt_calloc((size_t)plan->nsteps + 1, 1, e))) goto fail;
     for (int k = 0; k <= plan->nsteps; k++) {
@@ -136,7 +176,7 @@ int kt_solver_create(kt_solver **out, const kt_aug_problem *prob, const kt_edits
     if (sv->o.output[0] && (!(out_final = kt_calloc((size_t)final->nn, 1, e)) ||
                             set_nodes(final, sv->o.output, out_final, e)))
         goto fail;
-    kt_solver_in in = {prob, plan, final, out_final, &sv->o, o->plan_max_ratio};
+    kt_solver_in in = {prob, plan, final, out_final, &sv->o, o->plan_max_ratio, o->sens};
     if (start(sv, &in, e) || finish(sv, e)) goto fail;
     free(out_final);
     *out = sv;
@@ -168,6 +208,7 @@ void kt_solver_free(kt_solver *sv)
     free(sv->u);
     free(sv->ref);
     free(sv->on);
+    free(sv->du);
     free(sv);
 }
 
@@ -184,3 +225,11 @@ const double *kt_solver_reaction(kt_solver *sv, kt_err *e)
 {
     return sv->o.output[0] ? NULL : sv->be->reaction(sv->st, e);
 }
+
+const double *kt_solver_dudp(const kt_solver *sv, int k)
+{
+    if (!sv->sens || k < 0 || k >= sv->sens->nd) return NULL;
+    return sv->du + (size_t)k * 3 * sv->v.mesh->nn;
+}
+
+double kt_solver_t_sens(const kt_solver *sv) { return sv->t_sens; }

@@ -19,6 +19,7 @@
 #define KT_SOLVER_H
 
 #include "aug_plan.h"
+#include "sens.h"
 
 /* A step that is not written (augsolve --steps): a backend may skip its solve; CARRY: a later
  * step is solved and the backend keeps what it needs (the planned method continues its
@@ -33,6 +34,7 @@ typedef struct kt_solver_in {
     const unsigned char *out_final;  /* NULL, or the output set's nodes on the final mesh */
     const kt_aug_opts *o;
     double plan_max_ratio;           /* planned: kt_plan_factor_build's max_ratio */
+    const kt_fem_sens *sens;         /* NULL, or the derivatives every solved step gives */
 } kt_solver_in;
 
 /* A step's field as a backend leaves it: on the current cut mesh, valid until its next step. */
@@ -57,6 +59,12 @@ typedef struct kt_solver_backend {
      * run instead) into u (3 nn); *t the seconds it took. */
     int (*fresh)(void *st, double *u, double *t, kt_err *e);
     void (*free)(void *st);
+    /* The derivatives of the last solved step's field (augsolve --uncertainty): du (in->sens->nd
+     * x 3 nn) := du/dq of each derivative quantity (sens.h), valid at least on the output set.
+     * NULL: the front door computes them from scratch (kt_fem_sens_fresh) on the backend's
+     * cut mesh and field, which then must be valid everywhere (the stream methods). */
+    int (*dudp)(void *st, double *du, kt_err *e);
+    int no_dudp;                     /* 1: the method gives no derivatives (newton) */
 } kt_solver_backend;
 
 extern const kt_solver_backend kt_solver_planned, kt_solver_stream, kt_solver_newton;
@@ -65,6 +73,9 @@ typedef struct kt_solver_opts {
     kt_aug_opts aug;                 /* method, ordering, factor, tol, verify, output, quiet */
     double plan_max_ratio;
     const unsigned char *want;       /* nsteps+1: the steps to solve (NULL: all) */
+    const kt_fem_sens *sens;         /* NULL, or the quantities whose derivatives every solved
+                                        step gives (augsolve --uncertainty); a method that
+                                        gives none (newton) is KT_EINPUT */
 } kt_solver_opts;
 
 typedef struct kt_solver kt_solver;
@@ -87,6 +98,11 @@ const kt_mesh *kt_solver_mesh(const kt_solver *sv);
 const double *kt_solver_u(const kt_solver *sv);        /* 3 nn: NaN off the output set */
 const int *kt_solver_origin(const kt_solver *sv);
 const kt_aug_row *kt_solver_row(const kt_solver *sv);
+/* The last solved step's derivative du/dq of derivative quantity k (0 .. sens->nd - 1), mm per
+ * unit of q (3 nn, NaN off the output set like the field); NULL without sens. */
+const double *kt_solver_dudp(const kt_solver *sv, int k);
+/* Seconds the derivatives took so far (set-up included). */
+double kt_solver_t_sens(const kt_solver *sv);
 /* Reactions (3 nn), NULL with an --output set or when the backend has none. */
 const double *kt_solver_reaction(kt_solver *sv, kt_err *e);
 

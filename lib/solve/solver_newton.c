@@ -149,4 +149,4 @@ static int newton_fresh(void *st, double *u, double *t, kt_err *e)
 }
 
 const kt_solver_backend kt_solver_newton = {"newton", newton_create, newton_step, newton_view,
-                                            newton_reaction, newton_fresh, newton_free};
+                                            newton_reaction, newton_fresh, newton_free, NULL, 1};

@@ -4,6 +4,8 @@
  * from step to step). */
 #include "solver.h"
 
+#include "aug_plan_sens.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,11 +17,13 @@ typedef struct planned {
     int quiet;
     kt_plan_factor F;
     kt_plan_state S;
+    kt_plan_sens D;             /* --uncertainty: the derivatives (D.S NULL: none) */
 } planned;
 
 static void planned_free(void *st)
 {
     planned *P = st;
+    kt_plan_sens_free(&P->D);
     kt_plan_state_free(&P->S);
     kt_plan_factor_free(&P->F);
     free(P);
@@ -55,6 +59,16 @@ static int planned_create(void **st, const kt_solver_in *in, char *why, size_t n
     if (kt_plan_state_init(&P->S, in->plan, F, in->prob, e) ||
         (in->out_final && kt_plan_state_restrict(&P->S, in->plan, F, in->out_final, e)))
         goto fail;
+    if (in->sens) {
+        /* The derivatives' right-hand sides read every variable of the step's solution: the
+         * step's own back substitution is whole, the derivatives' are restricted instead. */
+        if (kt_plan_sens_init(&P->D, in->sens, in->plan, in->final, in->prob->mats, e)) goto fail;
+        P->D.want = P->S.want;
+        P->S.want = NULL;
+        P->S.want_cols = 0;
+        kt_log(P->quiet, "augsolve: planned: %d derivative quantities, their matrices in %.2f s\n",
+               in->sens->nd, P->D.t_setup);
+    }
     kt_log(P->quiet, "augsolve: planned: %d steps, %d free DOFs + %d increments, factor %.0f "
            "nonzeros (%.3gx METIS on the intact block; flops %.3gx) in %.2f s (assembly %.2f s, "
            "ordering %.2f s)\n", in->plan->nsteps, F->nK, F->nfree - F->nK, F->nnzL,
@@ -99,6 +113,12 @@ static const double *planned_reaction(void *st, kt_err *e)
     return P->S.want ? NULL : P->S.react; /* a restricted step computes none */
 }
 
+static int planned_dudp(void *st, double *du, kt_err *e)
+{
+    planned *P = st;
+    return kt_plan_sens_solve(&P->D, &P->S, P->plan, &P->F, du, e);
+}
+
 static int planned_fresh(void *st, double *u, double *t, kt_err *e)
 {
     planned *P = st;
@@ -107,4 +127,4 @@ static int planned_fresh(void *st, double *u, double *t, kt_err *e)
 
 const kt_solver_backend kt_solver_planned = {"planned", planned_create, planned_step,
                                              planned_view, planned_reaction, planned_fresh,
-                                             planned_free};
+                                             planned_free, planned_dudp, 0};

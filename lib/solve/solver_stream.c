@@ -40,4 +40,5 @@ static int stream_fresh(void *st, double *u, double *t, kt_err *e)
 static void stream_free(void *st) { kt_aug_free(st); }
 
 const kt_solver_backend kt_solver_stream = {"stream", stream_create, stream_step, stream_view,
-                                            stream_reaction, stream_fresh, stream_free};
+                                            stream_reaction, stream_fresh, stream_free,
+                                            NULL, 0};

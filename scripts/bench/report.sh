@@ -35,6 +35,9 @@ write_report() {
             printf '\n## The planned method (issue 11)\n\n'
             cat "$R/planned/planned.md"
         fi
+        printf '\n## augsolve --uncertainty (issue 21)\n'
+        md_table "$R/uncertainty/uncertainty.tsv" "Without and with --uncertainty (means of two runs each; cpu_ratio target <= 1.25)"
+        md_table "$R/uncertainty/runs.tsv" "The runs"
         printf '\n## Runs that failed or timed out\n\n'
         awk -F'\t' 'NR > 1 && $3 != 0 { printf "- %s: exit %s after %s s\n", $2, $3, $4 }' "$R/ledger.tsv"
     } >"$f"

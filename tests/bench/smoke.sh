@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # smoke.sh BUILD_DIR: the benchmark suite's own check (ctest label "bench"). Runs every part of
-# scripts/bench.sh (bandwidth, paper, ordering, tradeoff, stability, planned, and the report) in
+# scripts/bench.sh (bandwidth, paper, ordering, tradeoff, stability, planned, uncertainty, and the report) in
 # its --smoke mode, on the smallest cases: beams 5x5x4 and 5x5x8, the 4-cell brick, and for the
 # tradeoff part the smallest eye that still cuts (scripts/bench/common.sh, prep_eye). Checks
 # that the suite exits 0; that no tool run was refused as bad usage (exit 2: a removed option,
@@ -37,7 +37,15 @@ rows "$R/ordering/ordering.tsv" 3
 rows "$R/tradeoff/tradeoff.tsv" 3
 rows "$R/stability/stability.tsv" 5
 rows "$R/planned/planned.md" 3
-for h in Bandwidth Paper Ordering "Speed against accuracy" Stability "The planned method"; do
+rows "$R/uncertainty/runs.tsv" 5
+rows "$R/uncertainty/uncertainty.tsv" 3
+awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    { n++; if (!($(c["cpu_ratio"]) + 0 > 0)) bad = 1 } END { exit !(n == 2 && !bad) }' \
+    "$R/uncertainty/uncertainty.tsv" || fail "uncertainty: no CPU ratio for both output variants"
+awk -F'\t' '$2 ~ /^unc-/ && $3 != 0 { bad = 1 } END { exit bad }' "$R/ledger.tsv" ||
+    fail "uncertainty: an augsolve run failed"
+for h in Bandwidth Paper Ordering "Speed against accuracy" Stability "The planned method" \
+    "augsolve --uncertainty"; do
     grep -q "^## $h" "$R/report.md" || fail "report.md has no section '$h'"
 done
 

@@ -162,6 +162,10 @@ static void test_scene(void)
               back.eye.floor_centre == s.eye.floor_centre,
           "ordering read back");
     CHECK(back.nfix == s.nfix && back.fix[0].mask == s.fix[0].mask, "fixation read back");
+    /* the age the cornea was scaled for travels with the scene (age_slope applies) */
+    CHECK(s.unc.age == 68 && back.unc.age == s.unc.age && back.unc.sd[KT_UQ_AGE_SLOPE] ==
+              kt_uq_default_sd(KT_UQ_AGE_SLOPE) && back.unc.sd[KT_UQ_IOP] == kt_uq_default_sd(KT_UQ_IOP),
+          "uncertainty read back: age %g", back.unc.age);
 }
 
 int main(void)
