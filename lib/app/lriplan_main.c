@@ -7,17 +7,36 @@
 #include <string.h>
 
 #include "lriplan_int.h"
+#include "plan.h"
 
-#define MAIN_STEPS 4 /* the blade's advance in 4 steps (keratome-plan(5), TUNNELS) */
+#define MAIN_STEPS KT_TUNNEL_STEPS
+
+/* The external entry: the corneal edge (white-to-white) for a clear-corneal incision, the
+ * middle of the limbal band for a limbal one. */
+static double entry_diameter(const kt_patient *p, const kt_scene *s)
+{
+    return p->wtw + (p->main_kind == KT_MAIN_LIMBAL ? s->eye.limbus_width : 0);
+}
+
+int kt_lri_main_check(const kt_patient *p, const kt_scene *s, kt_err *e)
+{
+    if (!kt_lri_main_steps(p)) return KT_OK;
+    kt_tunnel t = {0};
+    t.meridian = p->main_meridian, t.width = p->main_width, t.length = KT_TUNNEL_LENGTH;
+    t.entry_diameter = entry_diameter(p, s), t.steps = MAIN_STEPS;
+    const char *field;
+    char msg[400];
+    if (kt_tunnel_derive(&s->eye, &t, &field, msg, sizeof msg))
+        return kt_fail(e, KT_EINPUT, "%s: main_incision: its tunnel's %s: %s", p->path, field, msg);
+    return KT_OK;
+}
 
 int kt_lri_main_steps(const kt_patient *p) { return p->main_present && p->main_simulate ? MAIN_STEPS : 0; }
 
 int kt_lri_main_plan(FILE *f, const kt_patient *p, const kt_scene *s)
 {
     if (!kt_lri_main_steps(p)) return 0;
-    /* The external entry: the corneal edge (white-to-white) for a clear-corneal incision, the
-     * middle of the limbal band for a limbal one; the tunnel's length is the plan's default. */
-    double entry = p->wtw + (p->main_kind == KT_MAIN_LIMBAL ? s->eye.limbus_width : 0);
+    double entry = entry_diameter(p, s); /* the tunnel's length: the plan's default */
     fprintf(f, "# the main incision: a %s tunnel, %.17g mm wide, its entry on the %.17g mm circle\n",
             p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear-corneal", p->main_width, entry);
     fprintf(f, "tunnels:\n  - meridian: %.17g deg\n    width: %.17g mm\n    entry_diameter: %.17g mm\n    steps: %d\n",

@@ -80,6 +80,11 @@ typedef struct kt_planar {
  * along points from it through the stroma to the internal (Descemet) opening on the posterior
  * surface `length` away, across is the width direction (the circumferential tangent at the
  * meridian), normal = across x along (pointing to the roof, the anterior lip). */
+/* Defaults of a tunnel (keratome-plan(5), TUNNELS; sources in docs/references.md). */
+#define KT_TUNNEL_LENGTH 2.0 /* mm: Mackool et al. 1996: clear-corneal tunnels of 2.0 mm or more
+                                resist leakage like scleral tunnels */
+#define KT_TUNNEL_STEPS 4    /* the blade's advance in 4 steps */
+
 typedef struct kt_tunnel {
     double meridian;            /* deg, [0, 360) */
     double width;               /* mm, the blade's width (chord along the circumference) */
@@ -125,6 +130,12 @@ typedef struct kt_plan {
  * type or unit, arc outside (0, 360], depth not positive or beyond the local corneal
  * thickness or the incision-ready surface, missing scene) is KT_EINPUT "file:line:col: ...". */
 int kt_plan_load(const char *path, kt_plan *p, kt_err *e);
+
+/* Check tunnel t (meridian, width, length, entry_diameter set) against the eye and derive its
+ * plane (entry, exit, along, across, normal). KT_EINPUT with the offending field's name in
+ * *field and "expected ..." in msg when the entry is not on the peripheral cornea or the
+ * limbus, the length does not reach the anterior chamber, or the width does not fit. */
+int kt_tunnel_derive(const kt_eye *eye, kt_tunnel *t, const char **field, char *msg, size_t size);
 
 /* Check the plan against the mesh it will cut: every named surface and region exists (KT_EINPUT
  * at the naming field otherwise), eye plans need the 'anterior' surface. */

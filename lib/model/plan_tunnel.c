@@ -31,55 +31,67 @@ static double reach(const kt_eye_geom *g, double re, double ze, double rho)
     return hypot(re - rho, ze - kt_eye_geom_post_z(g, rho));
 }
 
-static int derive(kt_yml *y, const yaml_node_t *n, const char *what, const kt_eye_geom *g, double optical,
-                  kt_tunnel *t, kt_err *e)
+int kt_tunnel_derive(const kt_eye *eye, kt_tunnel *t, const char **field, char *msg, size_t size)
 {
-    double re = t->entry_diameter / 2, m = t->meridian * KT_PI / 180;
+    kt_err ge = {0};
+    kt_eye_geom gg, *g = &gg;
+    *field = "meridian";
+    if (kt_eye_geom_init(eye, g, &ge)) {
+        snprintf(msg, size, "expected a valid eye: %s", ge.msg);
+        return KT_EINPUT;
+    }
+    double re = t->entry_diameter / 2, m = t->meridian * KT_PI / 180, optical = eye->optical_zone;
     double em[2] = {cos(m), sin(m)};
-    if (!(re > optical / 2 && re < g->rL))
-        return kt_yml_fail(y, kt_yml_get(y, n, "entry_diameter") ? kt_yml_get(y, n, "entry_diameter") : n, e,
-                           "%s.entry_diameter: expected the entry on the peripheral cornea or the limbus, "
-                           "a diameter in (%g, %g) mm, got %g mm", what, optical, 2 * g->rL, t->entry_diameter);
+    *field = "entry_diameter";
+    if (!(re > optical / 2 && re < g->rL)) {
+        snprintf(msg, size, "expected the entry on the peripheral cornea or the limbus, a diameter in (%g, %g) mm, got %g mm",
+                 optical, 2 * g->rL, t->entry_diameter);
+        return KT_EINPUT;
+    }
     double ze = kt_eye_geom_outer_z(g, re * em[0], re * em[1]);
-    /* The internal opening: reach() falls from its value at the posterior edge to the far
-     * one at the axis; bisection for reach = length. */
+    /* The internal opening: reach() falls from its value at the axis to the one at the
+     * posterior surface's edge; bisection for reach = length. */
     double hi = g->Pp[0], lo = 0;
     double rmin = reach(g, re, ze, hi), rmax = reach(g, re, ze, lo);
-    if (!(t->length > rmin && t->length < rmax))
-        return kt_yml_fail(y, kt_yml_get(y, n, "length") ? kt_yml_get(y, n, "length") : n, e,
-                           "%s.length: expected a tunnel that reaches the anterior chamber through the "
-                           "stroma from its entry, a length in (%.3g, %.3g) mm, got %g mm",
-                           what, rmin, rmax, t->length);
+    *field = "length";
+    if (!(t->length > rmin && t->length < rmax)) {
+        snprintf(msg, size, "expected a tunnel that reaches the anterior chamber through the stroma from its entry, "
+                 "a length in (%.3g, %.3g) mm, got %g mm", rmin, rmax, t->length);
+        return KT_EINPUT;
+    }
     for (int it = 0; it < 100; it++) {
         double mid = 0.5 * (lo + hi);
         if (reach(g, re, ze, mid) > t->length) lo = mid;
         else hi = mid;
     }
     double ri = 0.5 * (lo + hi), zi = kt_eye_geom_post_z(g, ri);
-    if (!isfinite(ze) || !isfinite(zi))
-        return kt_yml_fail(y, n, e, "%s: expected a tunnel inside the eye model's cornea", what);
+    if (!isfinite(ze) || !isfinite(zi)) {
+        snprintf(msg, size, "expected a tunnel inside the eye model's cornea");
+        return KT_EINPUT;
+    }
     t->entry[0] = re * em[0], t->entry[1] = re * em[1], t->entry[2] = ze;
     t->exit[0] = ri * em[0], t->exit[1] = ri * em[1], t->exit[2] = zi;
     double len = 0;
     for (int k = 0; k < 3; k++) t->along[k] = t->exit[k] - t->entry[k], len += t->along[k] * t->along[k];
     for (int k = 0; k < 3; k++) t->along[k] /= sqrt(len);
     t->across[0] = -em[1], t->across[1] = em[0], t->across[2] = 0;
-    /* normal = across x along: along = a_r e_m + a_z z gives a_z e_m x... pointing to the roof */
     const double *a = t->across, *b = t->along;
     t->normal[0] = a[1] * b[2] - a[2] * b[1];
     t->normal[1] = a[2] * b[0] - a[0] * b[2];
     t->normal[2] = a[0] * b[1] - a[1] * b[0];
-    if (t->normal[2] < 0)
+    if (t->normal[2] < 0) /* towards the roof (the anterior lip) */
         for (int k = 0; k < 3; k++) t->normal[k] = -t->normal[k];
-    /* The blade's half width along the circumference at the entry must stay well inside the
-     * eye: a chord of at most a quarter of the entry circle. */
-    if (!(t->width <= re * sqrt(2.0)))
-        return kt_yml_fail(y, kt_yml_get(y, n, "width"), e, "%s.width: expected at most %.3g mm at an entry "
-                           "diameter of %g mm, got %g mm", what, re * sqrt(2.0), t->entry_diameter, t->width);
+    /* The blade's width: a chord of at most a quarter of the entry circle. */
+    *field = "width";
+    if (!(t->width <= re * sqrt(2.0))) {
+        snprintf(msg, size, "expected at most %.3g mm at an entry diameter of %g mm, got %g mm", re * sqrt(2.0),
+                 t->entry_diameter, t->width);
+        return KT_EINPUT;
+    }
     return KT_OK;
 }
 
-static int parse_one(kt_yml *y, const yaml_node_t *n, int i, kt_plan *p, const kt_eye_geom *g, kt_err *e)
+static int parse_one(kt_yml *y, const yaml_node_t *n, int i, kt_plan *p, kt_err *e)
 {
     char what[64];
     snprintf(what, sizeof what, "tunnels[%d]", i);
@@ -99,7 +111,13 @@ static int parse_one(kt_yml *y, const yaml_node_t *n, int i, kt_plan *p, const k
                             &t->entry_diameter, e) ||
         kt_yml_key_int(y, n, what, "steps", 1, 100, &t->steps, e))
         return e->code;
-    return derive(y, n, what, g, p->scene.eye.optical_zone, t, e);
+    const char *field;
+    char msg[400];
+    if (kt_tunnel_derive(&p->scene.eye, t, &field, msg, sizeof msg)) {
+        yaml_node_t *f = kt_yml_get(y, n, field);
+        return kt_yml_fail(y, f ? f : n, e, "%s.%s: %s", what, field, msg);
+    }
+    return KT_OK;
 }
 
 int kt_plan_parse_tunnels(kt_yml *y, const yaml_node_t *n, kt_plan *p, kt_err *e)
@@ -107,10 +125,8 @@ int kt_plan_parse_tunnels(kt_yml *y, const yaml_node_t *n, kt_plan *p, kt_err *e
     if (kt_yml_check_seq(y, n, "tunnels", 1, KT_PLAN_MAX, e)) return e->code;
     if (p->scene.model != KT_MODEL_EYE)
         return kt_yml_fail(y, n, e, "tunnels: expected an eye scene, %s is not one", p->scene_path);
-    kt_eye_geom g;
-    if (kt_eye_geom_init(&p->scene.eye, &g, e)) return e->code;
     p->ntunnel = kt_yml_seq_len(n);
     for (int i = 0; i < p->ntunnel; i++)
-        if (parse_one(y, kt_yml_seq_item(y, n, i), i, p, &g, e)) return e->code;
+        if (parse_one(y, kt_yml_seq_item(y, n, i), i, p, e)) return e->code;
     return KT_OK;
 }

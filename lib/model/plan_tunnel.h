@@ -5,11 +5,6 @@
 #include "plan.h"
 #include "yml.h"
 
-/* Defaults of a tunnel (keratome-plan(5), TUNNELS; sources in docs/references.md). */
-#define KT_TUNNEL_LENGTH 2.0 /* mm: Mackool et al. 1996, clear-corneal tunnels of 2.0 mm or more
-                                resist leakage like scleral tunnels */
-#define KT_TUNNEL_STEPS 4    /* the blade's advance in 4 steps */
-
 /* Parse the `tunnels` sequence of an eye plan, check each tunnel against the scene's eye
  * (entry on the cornea or limbus, a length that reaches the posterior surface, a width that
  * fits) and derive its plane (kt_tunnel's derived fields). Bad input: KT_EINPUT at file:line:col. */
