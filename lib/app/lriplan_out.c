@@ -183,7 +183,7 @@ void kt_lri_summary(const kt_lri_answer *a, const kt_lriplan_opts *o, FILE *s)
             a->main_vec.mag > 0 ? " (with the main incision's SIA)" : "", a->pre_kerato.mag, a->pre_kerato.axis,
             a->pre_total.mag, a->pre_total.axis);
     if (p->main_present)
-        fprintf(s, "  main incision: %.1f mm %s at %.0f deg: %s\n", p->main_width,
+        fprintf(s, "  main incision: %g mm %s at %.0f deg: %s\n", p->main_width,
                 p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear corneal", p->main_meridian,
                 p->main_simulate ? "simulated, cut before the arcs" : "surgeon's SIA added");
     if (a->main_steps)
