@@ -9,7 +9,8 @@
 # 2. lri-plan --fast on a left eye with a simulated temporal incision (0 deg) and short single
 #    arcs: plan.json's simulated SIA equals the run's curvature.tsv after the tunnel's steps less
 #    step 0 (double-angle), its axis is orthogonal to the temporal meridian, every candidate's
-#    curve starts after the tunnel, and the pre-op is the intact eye.
+#    curve starts after the tunnel, the pre-op is the intact eye, and the scene meshes the
+#    tunnel's site finer (eye.mesh_size.site).
 # 3. Bad tunnels in a plan exit 2 at file:line:col before any cut, with nothing written.
 set -uo pipefail
 B=$(cd "$1" && pwd)
@@ -89,6 +90,8 @@ def check(cond, what):
 def vec(m, a): return (m * math.cos(2 * math.radians(a)), m * math.sin(2 * math.radians(a)))
 mi = j["main_incision"]
 check(mi["meridian_deg"] == 0.0 and mi["sia"].startswith("simulated"), "temporal is 0 deg in a left eye, simulated")
+site = [l for l in open(f"{d}/scene.yaml") if l.strip().startswith("site:")]
+check(len(site) == 1 and "meridian: 0 deg" in site[0], f"the scene refines the main incision's site: {site[0].strip() if site else None}")
 ntun = 0
 for line in open(f"{d}/single.edits"):
     if line.startswith("step "):
@@ -109,7 +112,7 @@ check(abs(j["pre_op"]["keratometric_D"] - float(rows[1][h.index("cyl_D")])) < 1e
 c = j["candidates"][0]["curve"]
 check(len(c) == len(rows) - 1 - ntun, f"the curve ({len(c)} points) starts after the tunnel")
 check(abs(c[0]["keratometric_D"] - float(rows[1 + ntun][h.index("cyl_D")])) < 1e-3, "arc 0 is the eye after the main incision")
-print(f"lriplan_main (lri-plan): {7 - len(fails)} passed, {len(fails)} failed")
+print(f"lriplan_main (lri-plan): {8 - len(fails)} passed, {len(fails)} failed")
 sys.exit(1 if fails else 0)
 PY
 

@@ -49,8 +49,9 @@ typedef struct kt_lri_answer {
  * run (0 when it is not simulated); its `tunnels` block into a family's plan; its simulated SIA
  * from the first family's run (after the tunnel against before it). */
 int kt_lri_main_steps(const kt_patient *p);
-/* The tunnel checked against the patient's eye before any meshing (KT_EINPUT). */
-int kt_lri_main_check(const kt_patient *p, const kt_scene *s, kt_err *e);
+/* The tunnel checked against the patient's eye before any meshing (KT_EINPUT); the scene's
+ * mesh refinement set to follow its site (eye.mesh_size.site). */
+int kt_lri_main_check(const kt_patient *p, kt_scene *s, kt_err *e);
 int kt_lri_main_plan(FILE *f, const kt_patient *p, const kt_scene *s);
 void kt_lri_main_sia(kt_lri_answer *a);
 /* How many steps of a family's edits the tunnel took (a portion of the blade's advance that

@@ -18,7 +18,7 @@ static double entry_diameter(const kt_patient *p, const kt_scene *s)
     return p->wtw + (p->main_kind == KT_MAIN_LIMBAL ? s->eye.limbus_width : 0);
 }
 
-int kt_lri_main_check(const kt_patient *p, const kt_scene *s, kt_err *e)
+int kt_lri_main_check(const kt_patient *p, kt_scene *s, kt_err *e)
 {
     if (!kt_lri_main_steps(p)) return KT_OK;
     kt_tunnel t = {0};
@@ -28,6 +28,12 @@ int kt_lri_main_check(const kt_patient *p, const kt_scene *s, kt_err *e)
     char msg[400];
     if (kt_tunnel_derive(&s->eye, &t, &field, msg, sizeof msg))
         return kt_fail(e, KT_EINPUT, "%s: main_incision: its tunnel's %s: %s", p->path, field, msg);
+    /* The mesh follows the main incision's site: the cylinder around the tunnel's rectangle
+     * (seen from the front) meshed at the incision's size (eye.mesh_size.site). */
+    double re = hypot(t.entry[0], t.entry[1]), ri = hypot(t.exit[0], t.exit[1]);
+    s->eye.site_meridian = p->main_meridian;
+    s->eye.site_distance = 0.5 * (re + ri);
+    s->eye.site_radius = hypot(0.5 * (re - ri), 0.5 * p->main_width);
     return KT_OK;
 }
 
