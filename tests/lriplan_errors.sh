@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # lriplan_errors.sh BUILD_DIR: bad patients and bad Pentacam maps exit 2 with one line
 # "file:line:col: expected ..." on stderr, before anything is meshed: the plan folder is not
-# even made. Usage errors exit 2 too.
+# even made (the main incision's bad width, kind, SIA and site among them). Usage errors exit 2 too.
 set -uo pipefail
 B=$(cd "$1" && pwd)
 cd "$(dirname "$0")/.."
@@ -18,6 +18,10 @@ cases=(
 "zone|eye: OD\nage: 68\ncornea: {$K}\nconstraints: {zone: 6.5 mm}|p.yaml:4:21: constraints.zone: expected a diameter outside the optical zone"
 "notpentacam|eye: OD\nage: 68\ncornea: {pentacam: {front: ../plans/eye.yaml}}|eye.yaml: expected a Pentacam map export"
 "truncated|eye: OD\nage: 68\ncornea: {pentacam: {front: short.csv}}|short.csv:104:1: expected 141 rows of the grid, the file ends after 100"
+"mainwidth|eye: OD\nage: 68\ncornea: {$K}\nmain_incision: {meridian: temporal, width: 0.5 mm}|p.yaml:4:44: main_incision.width: expected a length in [1, 6] mm"
+"mainkind|eye: OD\nage: 68\ncornea: {$K}\nmain_incision: {meridian: temporal, width: 2.4 mm, kind: scleral}|p.yaml:4:58: main_incision.kind: expected one of: clear_corneal, limbal"
+"mainsia|eye: OD\nage: 68\ncornea: {$K}\nmain_incision: {meridian: temporal, width: 2.4 mm, sia: {magnitude: -1 D, axis: 90 deg}}|p.yaml:4:69: main_incision.sia.magnitude: expected a power in [0, 5] D"
+"mainsite|eye: OD\nage: 68\ncornea: {$K}\nmain_incision: {meridian: 400 deg, width: 2.4 mm}|p.yaml:4:27: main_incision.meridian"
 )
 head -n 103 plans/patients/pentacam-front.csv > "$tmp/short.csv"
 for c in "${cases[@]}"; do
@@ -43,5 +47,5 @@ for args in "" "-o $tmp/x" "$tmp/none.yaml" "--step 0 plans/patients/wtr-od.yaml
     if [ $rc -eq 2 ] && [ ! -e "$tmp/x" ]; then echo "ok   usage '$args': $(head -1 "$tmp/err")"
     else echo "FAIL usage '$args': exit $rc"; fails=$((fails + 1)); fi
 done
-echo "lriplan_errors: $((7 + 5 - fails)) passed, $fails failed"
+echo "lriplan_errors: $((${#cases[@]} + 5 - fails)) passed, $fails failed"
 [ $fails -eq 0 ]

@@ -27,6 +27,8 @@ typedef struct kt_lri_family {
     double arc[KT_LRIPLAN_MAXSTEP + 1], arc_opp[KT_LRIPLAN_MAXSTEP + 1]; /* deg (arc_opp: 0 single) */
     kt_astig kerato[KT_LRIPLAN_MAXSTEP + 1], total[KT_LRIPLAN_MAXSTEP + 1]; /* simulated */
     kt_astig pred[KT_LRIPLAN_MAXSTEP + 1]; /* predicted post-operative, the target's kind */
+    kt_astig kerato_intact, total_intact; /* simulated before any cut (the run's step 0; the same
+                                       as step 0 above unless the main incision is simulated) */
     int best;                         /* step of the least predicted residual */
 } kt_lri_family;
 
@@ -47,6 +49,8 @@ typedef struct kt_lri_answer {
     kt_astig pre_kerato, pre_total;   /* pre-operative (measured; total with the posterior) */
     kt_astig post_vec;                /* the posterior toricity's contribution to the total */
     kt_astig main_vec;                /* the main incision's SIA added (0 when none / simulated) */
+    int main_steps;                   /* the run's steps of the simulated main incision (0: none) */
+    kt_astig main_sia_kerato, main_sia_total; /* its simulated SIA (lriplan_main.c) */
     int nfam;
     kt_lri_family fam[3];
     int chosen;                       /* family index of the answer */
@@ -75,6 +79,18 @@ void kt_lri_clock(double deg, char out[8]);
 int kt_lri_write_html(const kt_lri_answer *a, const kt_lriplan_opts *o, const char *report, const char *path, kt_err *e);
 /* The simulated keratometric SIA of step k of a family, D (double-angle difference from step 0). */
 double kt_lri_sia(const kt_lri_family *c, int k);
+/* The simulated main incision (lriplan_main.c): the steps its tunnel takes in every family's
+ * run (0 when it is not simulated); its `tunnels` block into a family's plan; its simulated SIA
+ * from the first family's run (after the tunnel against before it). */
+int kt_lri_main_steps(const kt_patient *p);
+/* The tunnel checked against the patient's eye before any meshing (KT_EINPUT); the scene's
+ * mesh refinement set to follow its site (eye.mesh_size.site). */
+int kt_lri_main_check(const kt_patient *p, kt_scene *s, kt_err *e);
+int kt_lri_main_plan(FILE *f, const kt_patient *p, const kt_scene *s);
+void kt_lri_main_sia(kt_lri_answer *a);
+/* How many steps of a family's edits the tunnel took (a portion of the blade's advance that
+ * splits no node merges into the next one, so it may be fewer than planned). */
+int kt_lri_main_count(const char *edits, int *n, kt_err *e);
 
 /* Fill the answer's prediction per step and choose (lriplan_out.c). */
 void kt_lri_choose(kt_lri_answer *a);

@@ -59,9 +59,10 @@ void kt_lri_choose(kt_lri_answer *a)
     }
     if (a->nfam) {
         const kt_lri_family *f0 = &a->fam[0];
-        a->pre_kerato = add(f0->kerato[0], a->main_vec);
-        a->pre_total = add(add(f0->total[0], a->post_vec), a->main_vec);
+        a->pre_kerato = add(f0->kerato_intact, a->main_vec);
+        a->pre_total = add(add(f0->total_intact, a->post_vec), a->main_vec);
     }
+    kt_lri_main_sia(a);
 }
 
 int kt_lri_arcs(const kt_lri_answer *a, kt_lri_arc arcs[2])
@@ -126,11 +127,14 @@ int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const ch
         fprintf(j, "},\n");
     }
     fprintf(j, "  \"main_incision\": {\"present\": %s, \"meridian_deg\": %.1f, \"width_mm\": %.2f, \"kind\": \"%s\", "
-               "\"sia\": \"%s\", \"sia_added_D\": %.3f, \"sia_axis_deg\": %.1f},\n",
+               "\"sia\": \"%s\", \"sia_added_D\": %.3f, \"sia_axis_deg\": %.1f, \"simulated_steps\": %d, "
+               "\"simulated_sia_keratometric_D\": %.4f, \"simulated_sia_keratometric_axis_deg\": %.1f, "
+               "\"simulated_sia_total_D\": %.4f, \"simulated_sia_total_axis_deg\": %.1f},\n",
             p->main_present ? "true" : "false", p->main_meridian, p->main_width,
             p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear_corneal",
-            !p->main_present ? "none" : p->main_simulate ? "simulate: not yet modelled, not included" : "surgeon's vector",
-            a->main_vec.mag, a->main_vec.axis);
+            !p->main_present ? "none" : p->main_simulate ? "simulated (a tunnel cut before the arcs)" : "surgeon's vector",
+            a->main_vec.mag, a->main_vec.axis, a->main_steps, a->main_sia_kerato.mag, a->main_sia_kerato.axis,
+            a->main_sia_total.mag, a->main_sia_total.axis);
     fprintf(j, "  \"target\": {\"astigmatism\": \"%s\", \"residual_D\": %.2f},\n",
             p->target_kind == KT_TARGET_TOTAL ? "total_corneal" : "keratometric", p->target_residual);
     fprintf(j, "  \"pre_op\": {\"keratometric_D\": %.3f, \"keratometric_axis_deg\": %.1f, \"total_D\": %.3f, \"total_axis_deg\": %.1f, "
@@ -212,9 +216,12 @@ void kt_lri_summary(const kt_lri_answer *a, const kt_lriplan_opts *o, FILE *s)
             a->main_vec.mag > 0 ? " (with the main incision's SIA)" : "", a->pre_kerato.mag, a->pre_kerato.axis,
             a->pre_total.mag, a->pre_total.axis);
     if (p->main_present)
-        fprintf(s, "  main incision: %.1f mm %s at %.0f deg: %s\n", p->main_width,
+        fprintf(s, "  main incision: %g mm %s at %.0f deg: %s\n", p->main_width,
                 p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear corneal", p->main_meridian,
-                p->main_simulate ? "simulation not yet modelled, its SIA is NOT included" : "surgeon's SIA added");
+                p->main_simulate ? "simulated, cut before the arcs" : "surgeon's SIA added");
+    if (a->main_steps)
+        fprintf(s, "  main incision's simulated SIA: keratometric %.2f D @ %.0f, total corneal %.2f D @ %.0f\n",
+                a->main_sia_kerato.mag, a->main_sia_kerato.axis, a->main_sia_total.mag, a->main_sia_total.axis);
     if (a->halves_ok)
         fprintf(s, "  half-meridians: %.2f D @ %.0f and %.2f D @ %.0f over K flat %.2f D: %s\n", a->half_a, p->ant.axis,
                 a->half_b, fmod(p->ant.axis + 180, 360), a->halves.k_flat,

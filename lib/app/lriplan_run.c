@@ -120,7 +120,8 @@ static int write_scene(const kt_lri_answer *a, const kt_scene *s, const char *ba
     return rc ? (kt_out_abort(&out), rc) : kt_out_commit(&out, e);
 }
 
-static int write_plan(const kt_lriplan_opts *o, const kt_lri_answer *a, const kt_lri_family *f, const char *path, kt_err *e)
+static int write_plan(const kt_lriplan_opts *o, const kt_lri_answer *a, const kt_scene *s, const kt_lri_family *f,
+                      const char *path, kt_err *e)
 {
     const kt_patient *p = &a->p;
     kt_out out;
@@ -136,15 +137,16 @@ static int write_plan(const kt_lriplan_opts *o, const kt_lri_answer *a, const kt
     fprintf(out.f, "    position: {surface: incision-ring-1}\n    paired: %s\n    direction: centre-out\n",
             paired ? "true" : "false");
     fprintf(out.f, "progression: {degrees_per_step: %.17g deg}\n", o->step);
-    if (ferror(out.f)) {
+    if (kt_lri_main_plan(out.f, p, s) || ferror(out.f)) {
         kt_out_abort(&out);
         return kt_fail(e, KT_ERUN, "%s: write failed", path);
     }
     return kt_out_commit(&out, e);
 }
 
-/* The family's curvature.tsv: keratometric and total astigmatism per step. */
-static int read_table(const char *path, kt_lri_family *f, double step, kt_err *e)
+/* The family's curvature.tsv: keratometric and total astigmatism per step; the first `skip`
+ * steps after step 0 are the simulated main incision's (step 0 is kept as the intact eye). */
+static int read_table(const char *path, kt_lri_family *f, double step, int skip, kt_err *e)
 {
     FILE *in = fopen(path, "r");
     if (!in) return kt_fail(e, KT_ERUN, "%s: cannot open", path);
@@ -159,28 +161,34 @@ static int read_table(const char *path, kt_lri_family *f, double step, kt_err *e
                 if (row < 0 && strcmp(tok, want[c]) == 0) col[c] = k;
                 if (row >= 0 && col[c] == k) v[c] = strtod(tok, NULL);
             }
-        if (row >= 0 && row <= KT_LRIPLAN_MAXSTEP) {
-            f->kerato[row].mag = v[0], f->kerato[row].axis = v[1];
-            f->total[row].mag = v[2], f->total[row].axis = v[3];
-            f->arc[row] = row * step;
-            f->arc_opp[row] = f->paired ? row * step * f->ratio : 0;
+        if (row == 0) {
+            f->kerato_intact.mag = v[0], f->kerato_intact.axis = v[1];
+            f->total_intact.mag = v[2], f->total_intact.axis = v[3];
+        }
+        int at = row - skip;
+        if (row >= 0 && at >= 0 && at <= KT_LRIPLAN_MAXSTEP) {
+            f->kerato[at].mag = v[0], f->kerato[at].axis = v[1];
+            f->total[at].mag = v[2], f->total[at].axis = v[3];
+            f->arc[at] = at * step;
+            f->arc_opp[at] = f->paired ? at * step * f->ratio : 0;
         }
         row++;
     }
     fclose(in);
-    if (col[0] < 0 || col[3] < 0 || row - 1 != f->nstep)
+    if (col[0] < 0 || col[3] < 0 || row - 1 != f->nstep + skip)
         return kt_fail(e, KT_ERUN, "%s: expected the columns cyl_D ... total_axis_deg and %d steps, found %d", path,
-                       f->nstep, row - 1);
+                       f->nstep + skip, row - 1);
     return KT_OK;
 }
 
 /* kind 0: one arc on the steeper half; 1: an equal pair; 2: an unequal pair, the longer arc on
  * the steeper half. */
-static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, int kind, const char *mesh, kt_err *e)
+static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene *s, int kind, const char *mesh,
+                      kt_err *e)
 {
     static const char *const NAMES[] = {"single", "paired", "unequal"};
     const char *name = NAMES[kind];
-    char plan[PATHLEN], edits[PATHLEN], run[PATHLEN], tsv[PATHLEN], leaf[64];
+    char plan[PATHLEN], edits[PATHLEN], run[PATHLEN], tsv[PATHLEN], leaf[64], cut[PATHLEN];
     kt_lri_family *f = &a->fam[a->nfam];
     memset(f, 0, sizeof *f);
     f->paired = kind > 0, f->unequal = kind == 2;
@@ -195,10 +203,15 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, int kind, cons
     if (join(edits, o->outdir, leaf, e)) return e->code;
     snprintf(leaf, sizeof leaf, "run-%s", name);
     if (join(run, o->outdir, leaf, e) || join(tsv, run, "curvature.tsv", e)) return e->code;
-    if (write_plan(o, a, f, plan, e)) return e->code;
-    kt_log(o->quiet, "lri-plan: %s arcs: cutplan, augsolve, curvature\n", name);
-    kt_cutplan_opts co = {plan, mesh, edits, NULL, 0, 1};
+    if (write_plan(o, a, s, f, plan, e)) return e->code;
+    kt_log(o->quiet, "lri-plan: %s arcs%s: cutplan, augsolve, curvature\n", name,
+           a->main_steps ? " after the main incision" : "");
+    /* The main incision's tunnel snaps nodes onto its plane: the run solves the snapped mesh. */
+    snprintf(leaf, sizeof leaf, "mesh-%s.msh", name);
+    if (join(cut, o->outdir, leaf, e)) return e->code;
+    kt_cutplan_opts co = {plan, mesh, edits, a->main_steps ? cut : NULL, 1, 1};
     if (kt_cutplan_run(&co, e)) return e->code;
+    if (a->main_steps) mesh = cut;
     kt_aug_run_opts ao;
     kt_aug_run_opts_default(&ao);
     ao.mesh = mesh, ao.edits = edits, ao.run_dir = run, ao.binary = 1, ao.aug.quiet = o->quiet;
@@ -213,7 +226,9 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, int kind, cons
     int rc = kt_curv_run(&cv, sink, e);
     fclose(sink);
     if (rc) return rc;
-    if (read_table(tsv, f, o->step, e)) return e->code;
+    int skip = 0;
+    if (a->main_steps && kt_lri_main_count(edits, &skip, e)) return e->code;
+    if (read_table(tsv, f, o->step, skip, e)) return e->code;
     a->nfam++;
     return KT_OK;
 }
@@ -254,6 +269,7 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
     if (rc == KT_OK && !(o->step > 0 && o->step <= a->p.max_arc))
         rc = kt_fail(e, KT_EINPUT, "--step %g: expected an angle in (0, max_arc = %g] deg", o->step, a->p.max_arc);
     if (rc == KT_OK) rc = make_scene(o, a, s, base, e);
+    if (rc == KT_OK) rc = kt_lri_main_check(&a->p, s, e);
     if (rc == KT_OK) rc = kt_mkdir_p(o->outdir, e);
     if (rc == KT_OK) rc = join(scene, o->outdir, "scene.yaml", e) || join(mesh, o->outdir, "eye.msh", e) ||
                           join(json, o->outdir, "plan.json", e) ? e->code : KT_OK;
@@ -273,9 +289,10 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
         rc = kt_msh_read(mesh, &m, e);
         if (rc == KT_OK) a->mesh_hash = kt_mesh_hash(&m), a->nodes = m.nn, kt_mesh_free(&m);
     }
-    if (rc == KT_OK && a->p.arcs != KT_ARCS_PAIRED) rc = run_family(o, a, 0, mesh, e);
-    if (rc == KT_OK && a->p.arcs != KT_ARCS_SINGLE) rc = run_family(o, a, 1, mesh, e);
-    if (rc == KT_OK && a->p.arcs != KT_ARCS_SINGLE && a->ratio < KT_LRIPLAN_SYMMETRIC) rc = run_family(o, a, 2, mesh, e);
+    a->main_steps = kt_lri_main_steps(&a->p);
+    if (rc == KT_OK && a->p.arcs != KT_ARCS_PAIRED) rc = run_family(o, a, s, 0, mesh, e);
+    if (rc == KT_OK && a->p.arcs != KT_ARCS_SINGLE) rc = run_family(o, a, s, 1, mesh, e);
+    if (rc == KT_OK && a->p.arcs != KT_ARCS_SINGLE && a->ratio < KT_LRIPLAN_SYMMETRIC) rc = run_family(o, a, s, 2, mesh, e);
     const char *report = NULL;
     if (rc == KT_OK) {
         kt_lri_choose(a);

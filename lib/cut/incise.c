@@ -289,12 +289,14 @@ int kt_incise_next(kt_incise *c, kt_step *s, kt_err *e)
 static int add_phases(kt_incise *c, kt_err *e)
 {
     const kt_plan *p = c->plan;
-    int n = p->ndeform + p->ninc + (p->planar.set ? 1 : 0);
+    int n = p->ndeform + p->ntunnel + p->ninc + (p->planar.set ? 1 : 0);
     c->phase = kt_calloc((size_t)n, sizeof *c->phase, e);
     if (!c->phase) return e->code;
     c->maxphase = n;
     for (int i = 0; i < p->ndeform; i++, c->nphase++)
         if (kt_incise_deform_phase(c, &p->deform[i], i, &c->phase[c->nphase], e)) return e->code;
+    for (int i = 0; i < p->ntunnel; i++, c->nphase++) /* the main incisions first */
+        if (kt_incise_tunnel_phase(c, &p->tunnel[i], i, &c->phase[c->nphase], e)) return e->code;
     for (int i = 0; i < p->ninc; i++, c->nphase++) {
         const kt_incision *inc = &p->inc[i];
         kt_phase *ph = &c->phase[c->nphase];

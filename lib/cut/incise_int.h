@@ -99,6 +99,17 @@ int kt_incise_deform_phase(kt_incise *c, const kt_deform *d, int index, kt_phase
                            kt_err *e);
 int kt_incise_deform_step(kt_incise *c, kt_phase *ph, kt_step *s, kt_err *e);
 
+/* incise_snap.c, for the tunnels (incise_tunnel.c): the faces between the tets whose
+ * centroids lie on either side of the plane (point, normal), into ph->face (slot on the minus
+ * side, key 0); snapping the vertices of ph's faces onto that plane; is tet t in the cornea or
+ * the limbus (any tet when the mesh names neither). */
+int kt_incise_plane_faces(kt_incise *c, const double *point, const double *normal, kt_phase *ph, kt_err *e);
+int kt_incise_snap_plane(kt_incise *c, kt_phase *ph, const double *point, const double *normal, const char *what,
+                         kt_err *e);
+int kt_incise_in_front(const kt_mesh *m, int t);
+/* incise_tunnel.c: tunnel `index` of the plan as a cut phase. */
+int kt_incise_tunnel_phase(kt_incise *c, const kt_tunnel *t, int index, kt_phase *ph, kt_err *e);
+
 /* Snap the vertex nodes listed (flag by input node) onto a surface, checking every element
  * they touch; proj puts the projection of x in y and returns the distance. */
 typedef double (*kt_incise_proj)(const void *surf, const double *x, double *y);

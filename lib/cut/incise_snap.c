@@ -310,10 +310,29 @@ done:
     return e->code;
 }
 
+int kt_incise_plane_faces(kt_incise *c, const double *point, const double *normal, kt_phase *ph, kt_err *e)
+{
+    plane surf;
+    memcpy(surf.p, point, sizeof surf.p);
+    memcpy(surf.n, normal, sizeof surf.n);
+    signed char *cls = classify(c, plane_side, &surf, e);
+    if (cls) interface(c, cls, ph, e);
+    free(cls);
+    return e->code;
+}
+
+int kt_incise_snap_plane(kt_incise *c, kt_phase *ph, const double *point, const double *normal, const char *what,
+                         kt_err *e)
+{
+    plane surf;
+    memcpy(surf.p, point, sizeof surf.p);
+    memcpy(surf.n, normal, sizeof surf.n);
+    return snap_faces(c, ph, plane_proj, &surf, what, e);
+}
+
 /* ---- an arc snapped onto a cylinder (an eye scene without a ring at that diameter) ---- */
 
-/* Is tet t in the cornea or limbus (when the mesh names those regions)? */
-static int in_front_regions(const kt_mesh *m, int t)
+int kt_incise_in_front(const kt_mesh *m, int t)
 {
     const kt_group *gc = kt_mesh_find_group(m, 3, "cornea"), *gl = kt_mesh_find_group(m, 3, "limbus");
     if (!gc && !gl) return 1;
@@ -337,7 +356,7 @@ static int select_arc_faces(kt_incise *c, const kt_incision *inc, kt_phase *ph, 
     /* arc and region first: depth is costlier */
     for (int i = 0; i < ph->nface; i++) {
         int s = ph->face[i].slot;
-        if (!in_front_regions(m, s / 4) || !in_front_regions(m, c->nbr[s] / 4)) continue;
+        if (!kt_incise_in_front(m, s / 4) || !kt_incise_in_front(m, c->nbr[s] / 4)) continue;
         double d[3], key = -1;
         for (int arcn = 0; arcn < 1 + inc->paired && key < 0; arcn++) {
             for (int k = 0; k < 3; k++)

@@ -366,7 +366,7 @@ static int size_fields(eye_build *b, kt_err *e)
 {
     const kt_eye *eye = b->eye;
     const kt_eye_geom *g = &b->g;
-    double fl[3 + KT_SCENE_MAX];
+    double fl[4 + KT_SCENE_MAX];
     int n = 0, f;
     char expr[1024];
     /* Optical zone: radial distance from the axis, switched off below the corneal edge. */
@@ -392,6 +392,13 @@ static int size_fields(eye_build *b, kt_err *e)
         fnum(b, d, "NumPointsPerCurve", ceil(3 * 2 * g->rL / eye->h_incision));
         if ((f = graded(b, d, eye->h_incision, 0.5 * eye->h_incision, 2 * hc, hc, hmax)) > 0)
             fl[n++] = f;
+    }
+    if (eye->site_radius > 0) {
+        /* The site: horizontal distance from its axis (every number parenthesized, see above). */
+        double cx = eye->site_distance * cos(eye->site_meridian * KT_PI / 180);
+        double cy = eye->site_distance * sin(eye->site_meridian * KT_PI / 180);
+        snprintf(expr, sizeof expr, "sqrt((x-(%.17g))^2 + (y-(%.17g))^2)", cx, cy);
+        if ((f = graded(b, matheval(b, expr), eye->h_incision, eye->site_radius, 2 * hc, hc, hmax)) > 0) fl[n++] = f;
     }
     double hring = fmin(eye->h_incision, hc);
     for (int i = 0; i < eye->nring && eye->h_floor > 0; i++) {

@@ -58,6 +58,10 @@ typedef struct kt_eye {
     double floor_centre, floor_sector; /* the floor is refined within floor_sector deg of the
                                        meridian floor_centre and its opposite (the scene's
                                        ordering.centre/sector); sector 0 or >= 90: all around */
+    double site_meridian, site_distance, site_radius; /* a site meshed at h_incision: the
+                                       vertical cylinder of site_radius around the point at
+                                       site_distance from the axis on site_meridian (the main
+                                       incision's tunnel; eye.mesh_size.site); radius 0: none */
     int nring;
     kt_ring ring[KT_SCENE_MAX];
 } kt_eye;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "eye_geom.h"
+#include "plan_tunnel.h"
 #include "scene_int.h"
 #include "yml.h"
 
@@ -17,7 +18,7 @@
 #define RING_MATCH 0.005             /* mm: a position diameter names a ring within this */
 
 static const char *const TOP_KEYS[] = {"name", "description", "scene", "incisions", "progression",
-                                       "deform", "planar_cut", "snap", "target", NULL};
+                                       "deform", "planar_cut", "snap", "target", "tunnels", NULL};
 static const char *const INC_KEYS[] = {"meridian", "arc", "depth", "depth_fraction", "position",
                                        "paired", "arc_opposite", "direction", "progression", NULL};
 static const char *const POS_KEYS[] = {"diameter", "surface", NULL};
@@ -258,7 +259,7 @@ static int parse_incision(kt_yml *y, const yaml_node_t *n, int i, kt_plan *p, kt
  * degrees_per_step that sets them (1e-9 deg would otherwise ask for billions of steps). */
 static int check_arc_steps(const kt_plan *p, kt_err *e)
 {
-    double total = 0;
+    double total = kt_plan_tunnel_steps(p); /* the tunnels come first */
     for (int i = 0; i < p->ninc; i++) {
         const kt_incision *inc = &p->inc[i];
         if (!(inc->prog.degrees_per_step > 0)) continue;
@@ -430,11 +431,11 @@ static int parse_plan(kt_yml *y, const yaml_node_t *root, kt_plan *p, kt_err *e)
         return e->code;
     if (parse_scene_key(y, root, p, e)) return e->code;
     yaml_node_t *inc = kt_yml_get(y, root, "incisions"), *def = kt_yml_get(y, root, "deform");
-    yaml_node_t *pl = kt_yml_get(y, root, "planar_cut");
-    if (!inc && !def && !pl)
-        return kt_yml_fail(y, root, e, "the plan: expected 'incisions', 'planar_cut' or 'deform'");
-    if ((def && parse_deforms(y, def, p, e)) || (inc && parse_incisions(y, inc, p, e)) ||
-        (pl && parse_planar(y, pl, p, e)))
+    yaml_node_t *pl = kt_yml_get(y, root, "planar_cut"), *tu = kt_yml_get(y, root, "tunnels");
+    if (!inc && !def && !pl && !tu)
+        return kt_yml_fail(y, root, e, "the plan: expected 'incisions', 'tunnels', 'planar_cut' or 'deform'");
+    if ((def && parse_deforms(y, def, p, e)) || (tu && kt_plan_parse_tunnels(y, tu, p, e)) ||
+        (inc && parse_incisions(y, inc, p, e)) || (pl && parse_planar(y, pl, p, e)))
         return e->code;
     return KT_OK;
 }
@@ -487,6 +488,8 @@ int kt_plan_check_mesh(const kt_plan *p, const kt_mesh *m, const char *mesh_name
         if (inc->surface[0] && need_group(p, m, mesh_name, 2, inc->surface, inc->at_position, e))
             return e->code;
     }
+    for (int i = 0; i < p->ntunnel; i++)
+        if (need_group(p, m, mesh_name, 2, "anterior", p->tunnel[i].at, e)) return e->code;
     for (int i = 0; i < p->ndeform; i++) {
         const kt_deform *d = &p->deform[i];
         if (need_group(p, m, mesh_name, d->set_dim, d->set, d->at_set, e)) return e->code;

@@ -75,6 +75,29 @@ typedef struct kt_planar {
     kt_mark at, at_pull;
 } kt_planar;
 
+/* A shelved tunnel through the full corneal thickness: the main cataract incision as a flat
+ * keratome blade makes it (keratome-plan(5), TUNNELS). Cut before every arc, in `steps` steps
+ * of the blade's advance. The plane and its frame are derived from the scene's eye at load time
+ * (plan_tunnel.c): entry is the external entry on the outer surface at the tunnel's meridian,
+ * along points from it through the stroma to the internal (Descemet) opening on the posterior
+ * surface `length` away, across is the width direction (the circumferential tangent at the
+ * meridian), normal = across x along (pointing to the roof, the anterior lip). */
+/* Defaults of a tunnel (keratome-plan(5), TUNNELS; sources in docs/references.md). */
+#define KT_TUNNEL_LENGTH 2.0 /* mm: Mackool et al. 1996: clear-corneal tunnels of 2.0 mm or more
+                                resist leakage like scleral tunnels */
+#define KT_TUNNEL_STEPS 4    /* the blade's advance in 4 steps */
+
+typedef struct kt_tunnel {
+    double meridian;            /* deg, [0, 360) */
+    double width;               /* mm, the blade's width (chord along the circumference) */
+    double length;              /* mm, external entry to internal opening, in the meridian */
+    double entry_diameter;      /* mm, twice the external entry's distance from the eye axis */
+    int steps;                  /* the blade's advance in this many steps */
+    double entry[3], exit[3];   /* derived: the two lips' points on the meridian, mm */
+    double along[3], across[3], normal[3]; /* derived: the plane's unit frame */
+    kt_mark at;
+} kt_tunnel;
+
 /* The intended correction, for curvature's vector analysis. */
 typedef struct kt_target {
     int set;
@@ -101,12 +124,20 @@ typedef struct kt_plan {
     kt_progression prog;        /* default progression: 5 degrees per step */
     kt_snap snap;
     kt_target target;
+    int ntunnel;                /* tunnels (main incisions), cut before the incisions */
+    kt_tunnel tunnel[KT_PLAN_MAX];
 } kt_plan;
 
 /* Load and validate a plan and the scene it names. Bad input (unknown or duplicate key, wrong
  * type or unit, arc outside (0, 360], depth not positive or beyond the local corneal
  * thickness or the incision-ready surface, missing scene) is KT_EINPUT "file:line:col: ...". */
 int kt_plan_load(const char *path, kt_plan *p, kt_err *e);
+
+/* Check tunnel t (meridian, width, length, entry_diameter set) against the eye and derive its
+ * plane (entry, exit, along, across, normal). KT_EINPUT with the offending field's name in
+ * *field and "expected ..." in msg when the entry is not on the peripheral cornea or the
+ * limbus, the length does not reach the anterior chamber, or the width does not fit. */
+int kt_tunnel_derive(const kt_eye *eye, kt_tunnel *t, const char **field, char *msg, size_t size);
 
 /* Check the plan against the mesh it will cut: every named surface and region exists (KT_EINPUT
  * at the naming field otherwise), eye plans need the 'anterior' surface. */

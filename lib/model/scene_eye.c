@@ -75,7 +75,8 @@ static int parse_rings(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
 }
 
 static const char *const SIZE_KEYS[] = {"optical_zone", "incision", "incision_floor", "cornea", "sclera",
-                                        NULL};
+                                        "site", NULL};
+static const char *const SITE_KEYS[] = {"meridian", "distance", "radius", NULL};
 
 static int parse_sizes(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
 {
@@ -96,6 +97,17 @@ static int parse_sizes(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
     if (fl && eye->h_floor > eye->h_incision)
         return kt_yml_fail(y, fl, e, "eye.mesh_size.incision_floor: expected at most mesh_size.incision (%g mm), got %g mm",
                            eye->h_incision, eye->h_floor);
+    /* A site meshed at the incision's size (the main incision's tunnel). */
+    yaml_node_t *st = kt_yml_get(y, n, "site");
+    if (st) {
+        const char *ws = "eye.mesh_size.site";
+        if (kt_yml_check_map(y, st, ws, SITE_KEYS, e) || !kt_yml_require(y, st, "meridian", ws, e) ||
+            !kt_yml_require(y, st, "distance", ws, e) || !kt_yml_require(y, st, "radius", ws, e) ||
+            kt_yml_key_quantity(y, st, ws, "meridian", KT_UNIT_ANGLE, (kt_yml_bounds){0, 360, 0, 1}, &eye->site_meridian, e) ||
+            kt_yml_key_quantity(y, st, ws, "distance", KT_UNIT_LENGTH, kt_scene_range(0, 20, 0, 0), &eye->site_distance, e) ||
+            kt_yml_key_quantity(y, st, ws, "radius", KT_UNIT_LENGTH, kt_scene_range(0.1, 10, 0, 0), &eye->site_radius, e))
+            return e->code;
+    }
     return KT_OK;
 }
 

@@ -19,6 +19,9 @@ static void write_eye(FILE *f, const kt_eye *y)
     fprintf(f, "  mesh_size:\n    optical_zone: %.17g mm\n    incision: %.17g mm\n", y->h_optical, y->h_incision);
     if (y->h_floor > 0) fprintf(f, "    incision_floor: %.17g mm\n", y->h_floor);
     fprintf(f, "    cornea: %.17g mm\n    sclera: %.17g mm\n", y->h_cornea, y->h_sclera);
+    if (y->site_radius > 0)
+        fprintf(f, "    site: {meridian: %.17g deg, distance: %.17g mm, radius: %.17g mm}\n", y->site_meridian,
+                y->site_distance, y->site_radius);
     fprintf(f, "  incision_rings:\n");
     for (int i = 0; i < y->nring; i++) {
         const kt_ring *r = &y->ring[i];

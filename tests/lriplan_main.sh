@@ -1,0 +1,135 @@
+#!/usr/bin/env bash
+# lriplan_main.sh BUILD_DIR: the main cataract incision, simulated (keratome-plan(5) TUNNELS,
+# keratome-patient(5) THE MAIN INCISION).
+# 1. On a coarse eye (plans/eye.yaml with larger elements), a 2.4 mm tunnel alone at two
+#    meridians (temporal OD 180 deg, superior 90 deg): cutplan | augsolve | curvature. Its
+#    edits duplicate nodes on both the anterior and the posterior ('inner') surfaces (it goes
+#    through the full thickness); its SIA is a flattening along its meridian: K along the
+#    meridian falls, and the SIA's steep axis lies within 15 deg of the orthogonal meridian.
+# 2. lri-plan --fast on a left eye with a simulated temporal incision (0 deg) and short single
+#    arcs: plan.json's simulated SIA equals the run's curvature.tsv after the tunnel's steps less
+#    step 0 (double-angle), its axis is orthogonal to the temporal meridian, every candidate's
+#    curve starts after the tunnel, the pre-op is the intact eye, and the scene meshes the
+#    tunnel's site finer (eye.mesh_size.site).
+# 3. Bad tunnels in a plan exit 2 at file:line:col before any cut, with nothing written.
+set -uo pipefail
+B=$(cd "$1" && pwd)
+cd "$(dirname "$0")/.."
+py=/usr/bin/python3
+T=$(mktemp -d /tmp/kt-main.XXXXXX)
+trap 'rm -rf "$T"' EXIT
+fail() { echo "lriplan_main: FAILED: $*"; exit 1; }
+sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.8 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.4 mm/' \
+    -e 's/^    cornea: [0-9.]* mm/    cornea: 1.0 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 2.5 mm/' \
+    -e '/^    incision_floor:/d' plans/eye.yaml > "$T/eye.yaml"
+grep -q "cornea: 1.0 mm" "$T/eye.yaml" || fail "could not coarsen plans/eye.yaml"
+"$B/mesh-prep" -q "$T/eye.yaml" -o "$T/eye.msh" > /dev/null 2> "$T/err" || fail "mesh-prep: $(cat "$T/err")"
+for m in 180 90; do
+    printf 'name: tunnel-%s\nscene: eye.yaml\ntunnels:\n  - {meridian: %s deg, width: 2.4 mm}\n' $m $m > "$T/t$m.yaml"
+    "$B/cutplan" -q "$T/t$m.yaml" "$T/eye.msh" --mesh-out "$T/e$m.msh" -o "$T/t$m.edits" 2> "$T/err" &&
+        "$B/augsolve" -q --binary "$T/e$m.msh" "$T/t$m.edits" -o "$T/r$m" 2>> "$T/err" &&
+        "$B/curvature" -q --no-png --no-vtk --no-report "$T/r$m" > /dev/null 2>> "$T/err" ||
+        fail "tunnel at $m deg: $(cat "$T/err")"
+done
+"$py" - "$T" <<'PY' || exit 1
+import math, sys
+import meshio
+T = sys.argv[1]
+fails = []
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond: fails.append(what)
+for mer in (180, 90):
+    m = meshio.read(f"{T}/e{mer}.msh")
+    tags = {k: v[0] for k, v in m.field_data.items()}
+    on = {"anterior": set(), "inner": set()}
+    for cb, phys in zip(m.cells, m.cell_data["gmsh:physical"]):
+        if cb.type.startswith("triangle"):
+            for name in on:
+                on[name].update((cb.data[phys == tags[name]].ravel() + 1).tolist())  # 1-based as the edits
+    dups = [int(l.split()[1]) for l in open(f"{T}/t{mer}.edits") if l.startswith("dup ")]
+    na, ni = sum(d in on["anterior"] for d in dups), sum(d in on["inner"] for d in dups)
+    check(na > 0 and ni > 0, f"{mer} deg: the tunnel opens both surfaces ({na} anterior, {ni} posterior nodes split)")
+    rows = [l.rstrip("\n").split("\t") for l in open(f"{T}/r{mer}/curvature.tsv")]
+    h = rows[0]
+    col = lambda r, k: float(r[h.index(k)])
+    def k_along(r, th):
+        ks, kf, ax = col(r, "k_steep_D"), col(r, "k_flat_D"), col(r, "axis_steep_deg")
+        return kf + (ks - kf) * math.cos(math.radians(th - ax)) ** 2
+    pre, post = rows[1], rows[-1]
+    dk = k_along(post, mer) - k_along(pre, mer)
+    check(dk < -0.02, f"{mer} deg: K along the incised meridian falls by {-dk:.3f} D")
+    sia, ax = col(post, "sia_D"), col(post, "sia_axis_deg")
+    off = abs((ax - (mer + 90)) % 180)
+    off = min(off, 180 - off)
+    check(sia > 0.05 and off < 15, f"{mer} deg: SIA {sia:.3f} D @ {ax:.1f} (steep axis {off:.1f} deg from {(mer + 90) % 180})")
+print(f"lriplan_main (tunnel alone): {6 - len(fails)} passed, {len(fails)} failed")
+sys.exit(1 if fails else 0)
+PY
+
+# 2. lri-plan with the main incision simulated.
+cat > "$T/os.yaml" <<'EOF'
+name: main-os
+eye: OS
+age: 70
+cornea:
+  keratometry: {k_steep: 44.50 D, k_flat: 43.50 D, steep_axis: 90 deg}
+main_incision: {meridian: temporal, width: 2.4 mm, kind: clear_corneal}
+constraints: {incisions: single, max_arc: 15 deg}
+EOF
+"$B/lri-plan" -q --fast "$T/os.yaml" -o "$T/plan" > "$T/summary" 2> "$T/err" || fail "lri-plan: $(cat "$T/err")"
+cat "$T/summary"
+"$py" - "$T/plan" <<'PY' || exit 1
+import json, math, sys
+d = sys.argv[1]
+j = json.load(open(f"{d}/plan.json"))
+fails = []
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond: fails.append(what)
+def vec(m, a): return (m * math.cos(2 * math.radians(a)), m * math.sin(2 * math.radians(a)))
+mi = j["main_incision"]
+check(mi["meridian_deg"] == 0.0 and mi["sia"].startswith("simulated"), "temporal is 0 deg in a left eye, simulated")
+site = [l for l in open(f"{d}/scene.yaml") if l.strip().startswith("site:")]
+check(len(site) == 1 and "meridian: 0 deg" in site[0], f"the scene refines the main incision's site: {site[0].strip() if site else None}")
+ntun = 0
+for line in open(f"{d}/single.edits"):
+    if line.startswith("step "):
+        if "(tunnel " not in line: break
+        ntun += 1
+check(ntun >= 1, f"the family's edits begin with the tunnel's {ntun} steps")
+rows = [l.rstrip("\n").split("\t") for l in open(f"{d}/run-single/curvature.tsv")]
+h = rows[0]
+def astig(r, kind):
+    return vec(float(r[h.index("cyl_D" if kind == "k" else "total_cyl_D")]),
+               float(r[h.index("axis_steep_deg" if kind == "k" else "total_axis_deg")]))
+a0, a1 = astig(rows[1], "k"), astig(rows[1 + ntun], "k")
+sia = math.hypot(a1[0] - a0[0], a1[1] - a0[1])
+check(abs(sia - mi["simulated_sia_keratometric_D"]) < 1e-3, f"simulated SIA {mi['simulated_sia_keratometric_D']:.4f} D = the run's {sia:.4f} D")
+ax = mi["simulated_sia_keratometric_axis_deg"]
+check(min(abs(ax - 90), 180 - abs(ax - 90)) < 15 and sia > 0.05, f"its steep axis {ax:.1f} deg is orthogonal to the temporal meridian")
+check(abs(j["pre_op"]["keratometric_D"] - float(rows[1][h.index("cyl_D")])) < 1e-3, "pre-op is the intact eye (step 0)")
+c = j["candidates"][0]["curve"]
+check(len(c) == len(rows) - 1 - ntun, f"the curve ({len(c)} points) starts after the tunnel")
+check(abs(c[0]["keratometric_D"] - float(rows[1 + ntun][h.index("cyl_D")])) < 1e-3, "arc 0 is the eye after the main incision")
+print(f"lriplan_main (lri-plan): {8 - len(fails)} passed, {len(fails)} failed")
+sys.exit(1 if fails else 0)
+PY
+
+# 3. Bad tunnels.
+n=0
+for c in "length: 0.3 mm|4:48: tunnels[0].length: expected a tunnel that reaches the anterior chamber" \
+         "entry_diameter: 6 mm|4:56: tunnels[0].entry_diameter: expected the entry on the peripheral cornea" \
+         "width: 12 mm|4:32: tunnels[0].width: expected" "steps: 0|4:47: tunnels[0].steps: expected"; do
+    IFS='|' read -r field want <<< "$c"
+    case $field in width*) line="{meridian: 180 deg, $field}" ;; *) line="{meridian: 180 deg, width: 2.4 mm, $field}" ;; esac
+    printf 'name: bad\nscene: eye.yaml\ntunnels:\n  - %s\n' "$line" > "$T/bad.yaml"
+    rc=0
+    "$B/cutplan" -q "$T/bad.yaml" "$T/eye.msh" -o "$T/bad.edits" 2> "$T/err" || rc=$?
+    if [ $rc -eq 2 ] && [ ! -e "$T/bad.edits" ] && [ "$(wc -l < "$T/err")" -eq 1 ] && grep -qF -- "bad.yaml:$want" "$T/err"; then
+        echo "ok   bad tunnel '$field': $(cat "$T/err")"; n=$((n + 1))
+    else
+        fail "bad tunnel '$field': exit $rc, '$(cat "$T/err")', want 'bad.yaml:$want'"
+    fi
+done
+echo "lriplan_main (bad tunnels): $n passed, 0 failed"
