@@ -10,7 +10,9 @@
 #      arcs of 15 to 90 deg) twice from nothing, each meshing its own eye: once with make
 #      (ENGINE=local) and once with ENGINE=parallel (GNU parallel): the two eyes are equal and so
 #      are the two nomogram.tsv, which hold the run's six arcs.
-# It prints each part's wall-clock and CPU seconds. tests/reproducible.sh is the same check on a
+# It prints each part's wall-clock and CPU seconds. Measured on the shared 2-core machine at load
+# 6-29: 47 min wall, 525 s of CPU (demo 97 + 87 s, make quick 162 + 179 s), peak 2.6 GB; on a
+# quiet machine about 9 min. tests/reproducible.sh is the same check on a
 # coarse eye and a reduced study (the quick look; label pipeline).
 set -euo pipefail
 B=$(cd "$1" && pwd)
