@@ -48,4 +48,4 @@ awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
 awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" 'BEGIN {
     printf "wall clock: mesh-prep %.1f s, cutplan|augsolve %.1f s, curvature %.1f s, total %.1f s\n",
            b - a, c - b, d - c, d - a }'
-echo "outputs in $RUN: report.html (open it in a browser), steps.pvd (ParaView), curvature.tsv, meridians.tsv, steps.tsv, axial-NNNN.png, surface-NNNN.vtk"
+echo "outputs in $RUN: report.html (open it in a browser), steps.pvd (ParaView), curvature.tsv, meridians.tsv, steps.tsv, uncertainty.tsv, derivatives.tsv, axial-NNNN.png, surface-NNNN.vtk"
