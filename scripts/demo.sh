@@ -10,12 +10,17 @@
 # keeps the mesh, the step VTKs, surface-NNNN.vtk, the axial power maps axial-NNNN.png, the
 # teaching page report.html and the ParaView time series steps.pvd.
 # It first installs what is missing (scripts/setup.sh) and builds (scripts/build.sh).
+# augsolve runs with --uncertainty (issue 21): curvature's summary and report.html show the SIA
+# with its 90% band (first order, the scene's uncertain quantities; curvature(1), UNCERTAINTY).
 # Environment: KT_BUILD, the build folder with the tools (default build); KT_NO_BUILD=1 skips
-# set-up and build (for tests that already built).
+# set-up and build (for tests that already built); KT_EYE and KT_PLAN, another scene and plan
+# (default plans/eye.yaml and plans/lri-paired-60.yaml; a plan whose scene: is that eye).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 B=${KT_BUILD:-build}
 RUN=${1:-run/demo}
+EYE=${KT_EYE:-plans/eye.yaml}
+PLAN=${KT_PLAN:-plans/lri-paired-60.yaml}
 if [ -z "${KT_NO_BUILD:-}" ]; then
     bash scripts/setup.sh
     bash scripts/build.sh "$B"
@@ -26,11 +31,11 @@ done
 mkdir -p "$RUN"
 now() { date +%s.%N; }
 t0=$(now)
-echo "== mesh-prep plans/eye.yaml"
-"$B/mesh-prep" plans/eye.yaml -o "$RUN/eye.msh"
+echo "== mesh-prep $EYE"
+"$B/mesh-prep" "$EYE" -o "$RUN/eye.msh"
 t1=$(now)
-echo "== cutplan plans/lri-paired-60.yaml | augsolve"
-"$B/cutplan" plans/lri-paired-60.yaml "$RUN/eye.msh" -o - | "$B/augsolve" "$RUN/eye.msh" - -o "$RUN"
+echo "== cutplan $PLAN | augsolve --uncertainty"
+"$B/cutplan" "$PLAN" "$RUN/eye.msh" -o - | "$B/augsolve" "$RUN/eye.msh" - -o "$RUN" --uncertainty
 t2=$(now)
 echo "== curvature"
 "$B/curvature" "$RUN"
@@ -43,4 +48,4 @@ awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
 awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" 'BEGIN {
     printf "wall clock: mesh-prep %.1f s, cutplan|augsolve %.1f s, curvature %.1f s, total %.1f s\n",
            b - a, c - b, d - c, d - a }'
-echo "outputs in $RUN: report.html (open it in a browser), steps.pvd (ParaView), curvature.tsv, meridians.tsv, steps.tsv, axial-NNNN.png, surface-NNNN.vtk"
+echo "outputs in $RUN: report.html (open it in a browser), steps.pvd (ParaView), curvature.tsv, meridians.tsv, steps.tsv, uncertainty.tsv, derivatives.tsv, axial-NNNN.png, surface-NNNN.vtk"

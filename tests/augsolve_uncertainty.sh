@@ -15,6 +15,11 @@
 #   4. without --uncertainty: no uncertainty.tsv, no dudp field, and the displacement and
 #      steps.tsv's non-timing columns equal the --uncertainty run's;
 #   5. --method newton --uncertainty is refused with exit 2 before anything is solved.
+#   6. curvature on these runs (issue 21 end to end): dSIA/dp in derivatives.tsv (through the
+#      dudp fields) against the central difference of curvature.tsv's sia_D over two more runs
+#      at E_inplane and iop +-5%, to 1%; sia_D_sd = sqrt(sum (dSIA/dp sd_p)^2) from
+#      uncertainty.tsv and derivatives.tsv; the summary prints the SIA with its 90% interval;
+#      report.html has the band and the tornado chart.
 set -u
 build="$1"
 tmp=$(mktemp -d /tmp/kt-uncertainty.XXXXXX)
@@ -167,6 +172,56 @@ t = lambda r: [l.split("\t")[:6] for l in open(f"{tmp}/{r}/steps.tsv")]
 if t("plain") != t("base"):
     fail("steps.tsv's non-timing columns differ with --uncertainty")
 print("augsolve_uncertainty: ok")
+PY
+# 6. the pipeline with curvature (issue 21): curvature's bands on these derivatives against two
+# full runs per quantity. dSIA/dp (curvature's derivatives.tsv, through dudp_<p>) is checked
+# against the central difference of curvature.tsv's sia_D (printed to 1e-4 D) over E_inplane
+# and iop at +-5%: h so large that the printed rounding (<= 1e-4 D over the difference: 0.43% at
+# step 1, 0.12% at step 2 for E_inplane) and the O(h^2) truncation stay under 1% together
+# (measured: 0.41% and 0.17% for E_inplane, 0.30% and 0.02% for iop, at steps 1 and 2); 1%.
+variant E5p 's/E_inplane: 2.0 MPa/E_inplane: 2.1 MPa/g'
+variant E5m 's/E_inplane: 2.0 MPa/E_inplane: 1.9 MPa/g'
+variant I5p 's/value: 15 mmHg/value: 15.75 mmHg/'
+variant I5m 's/value: 15 mmHg/value: 14.25 mmHg/'
+for r in E5p E5m I5p I5m; do
+    "$build/curvature" -q --no-png --no-report --no-vtk "$tmp/$r" > /dev/null 2> "$tmp/$r.cerr" ||
+        fail "curvature $r: $(cat "$tmp/$r.cerr")"
+done
+"$build/curvature" -q --no-png --no-vtk "$tmp/base" > "$tmp/base.txt" 2> "$tmp/base.cerr" ||
+    fail "curvature on the --uncertainty run: $(cat "$tmp/base.cerr")"
+grep -q "^uncertainty, step 2 (first order, [0-9]* independent quantities, 90% = +-1.645 sd): SIA [0-9.]* D (90%: [0-9.]*-[0-9.]*)" \
+    "$tmp/base.txt" || fail "the summary has no SIA with its 90% interval: $(grep ^uncertainty "$tmp/base.txt")"
+grep -q 'class="band"' "$tmp/base/report.html" && grep -q 'id="tornado"' "$tmp/base/report.html" ||
+    fail "report.html has no band or no tornado chart"
+python3 - "$tmp" <<'PY' || exit 1
+import csv, math, sys
+tmp = sys.argv[1]
+def table(p):
+    with open(p) as f:
+        return list(csv.DictReader(f, delimiter="\t"))
+def fail(msg):
+    print("augsolve_uncertainty: FAILED:", msg)
+    sys.exit(1)
+cur = {r: {int(x["step"]): x for x in table(f"{tmp}/{r}/curvature.tsv")} for r in ("base", "E5p", "E5m", "I5p", "I5m")}
+der = {(int(x["step"]), x["param"]): x for x in table(f"{tmp}/base/derivatives.tsv")}
+unc = {x["param"]: x for x in table(f"{tmp}/base/uncertainty.tsv")}
+for q, p, m, dh in (("E_inplane", "E5p", "E5m", 0.2), ("iop", "I5p", "I5m", 1.5)):
+    for s in (1, 2):
+        fd = (float(cur[p][s]["sia_D"]) - float(cur[m][s]["sia_D"])) / dh
+        d = float(der[s, q]["sia_D"])
+        rel = abs(d - fd) / abs(fd) if fd else float("nan")
+        print(f"augsolve_uncertainty: step {s} dSIA/d{q}: curvature {d:.5g} D per unit, two runs "
+              f"{fd:.5g}, relative difference {rel:.2e}")
+        if not (rel <= 0.01):
+            fail(f"step {s}: dSIA/d{q} {d:.5g} against the two runs' {fd:.5g} ({rel:.3g} > 1%)")
+# sia_D_sd = sqrt(sum (dSIA/dp sd_p)^2) over the quantities used
+for s, row in cur["base"].items():
+    want = math.sqrt(sum((float(der[s, q]["sia_D"]) * float(unc[q]["sd"])) ** 2
+                         for q in unc if der.get((s, q), {}).get("used") == "1"))
+    got = float(row["sia_D_sd"])
+    if not (abs(got - want) <= 1e-4 * want + 6e-5):
+        fail(f"step {s}: sia_D_sd {got} but sqrt(sum (dSIA/dp sd)^2) = {want:.6g}")
+print("augsolve_uncertainty: curvature's bands ok, SIA sd at step 2: %s D" % cur["base"][2]["sia_D_sd"])
 PY
 # sd 0 removes a quantity: no field, method none
 sed -e 's/^uncertainty:$/uncertainty:\n  limbal_density: {sd: 0}\n  iop: {sd: 0, distribution: uniform}/' \

@@ -111,8 +111,11 @@ check(min(abs(ax - 90), 180 - abs(ax - 90)) < 15 and sia > 0.05, f"its steep axi
 check(abs(j["pre_op"]["keratometric_D"] - float(rows[1][h.index("cyl_D")])) < 1e-3, "pre-op is the intact eye (step 0)")
 c = j["candidates"][0]["curve"]
 check(len(c) == len(rows) - 1 - ntun, f"the curve ({len(c)} points) starts after the tunnel")
+arc = [float(r[h.index("arc_deg")]) for r in rows[1:]]
+check(all(x == 0 for x in arc[:1 + ntun]) and all(b > a for a, b in zip(arc[ntun:], arc[ntun + 1:])),
+      f"curvature.tsv's arc_deg: 0 through the tunnel's steps, growing after them: {arc}")
 check(abs(c[0]["keratometric_D"] - float(rows[1 + ntun][h.index("cyl_D")])) < 1e-3, "arc 0 is the eye after the main incision")
-print(f"lriplan_main (lri-plan): {8 - len(fails)} passed, {len(fails)} failed")
+print(f"lriplan_main (lri-plan): {9 - len(fails)} passed, {len(fails)} failed")
 sys.exit(1 if fails else 0)
 PY
 

@@ -35,7 +35,11 @@ nom=$O/runs/nominal/run
 
 # curvature's bands on the real eye
 $PY tests/uq/add_dudp.py "$nom" A=u
-cp "$nom/uncertainty.tsv" "$tmp/theirs.tsv" 2> /dev/null || true
+# the nominal eye is solved with augsolve --uncertainty at the study's sd (gen.sh's section)
+cp "$nom/uncertainty.tsv" "$tmp/theirs.tsv" || fail "the nominal run has no uncertainty.tsv"
+awk -F'\t' '$1 == "E_inplane" && $4 == 0.6 && $5 == "derivative" { a = 1 } $1 == "iop" && $4 == 3 { b = 1 }
+    $1 == "thickness" && $4 == 10 && $5 == "fd" { c = 1 } END { exit !(a && b && c) }' "$tmp/theirs.tsv" ||
+    fail "the nominal's uncertainty.tsv is not the study's: $(cat "$tmp/theirs.tsv")"
 printf 'param\tunit\tvalue\tsd\tmethod\tsource\nA\tMPa\t2\t0.1\tderivative\ttest\nthickness\tum\t540\t10\tfd\ttest\n' \
     > "$nom/uncertainty.tsv"
 "$B/curvature" -q --no-png --no-vtk --no-report -o "$tmp/band" "$nom" > "$tmp/band.txt"

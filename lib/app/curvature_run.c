@@ -483,7 +483,7 @@ static int select_step(run_ctx *c, kt_err *e)
         if (k < 0)
             return kt_fail(e, KT_EINPUT, "--arc %g: expected the arc of a step, %g to %g deg in steps of %g", o->arc_sel,
                            kt_curvrun_arc(c, 0), kt_curvrun_arc(c, c->nstep - 1),
-                           c->nstep > 1 ? kt_curvrun_arc(c, 1) - kt_curvrun_arc(c, 0) : 0);
+                           c->plan_in->inc[0].prog.degrees_per_step);
     } else {
         return KT_OK;
     }
@@ -495,10 +495,19 @@ static int select_step(run_ctx *c, kt_err *e)
     return KT_OK;
 }
 
+/* The arc opened per incision at step i. cutplan cuts a plan's tunnels (main incisions) before
+ * its incisions, each in its `steps` advances (keratome-plan(5), TUNNELS): those steps open no
+ * arc (0), and the first incision's arc grows by degrees_per_step a step after them. (A tunnel
+ * advance that split no node merges into the next one; on meshes that resolve the tunnel's site
+ * every advance splits some, as lri-plan's scenes do.) */
 double kt_curvrun_arc(const run_ctx *c, int i)
 {
     if (!c->plan_in || c->plan_in->ninc < 1 || !(c->plan_in->inc[0].prog.degrees_per_step > 0)) return NAN;
-    return fmin(c->num[i] * c->plan_in->inc[0].prog.degrees_per_step, c->plan_in->inc[0].arc);
+    int ntun = 0;
+    for (int k = 0; k < c->plan_in->ntunnel; k++) ntun += c->plan_in->tunnel[k].steps;
+    int s = c->num[i] - ntun;
+    if (s <= 0) return 0;
+    return fmin(s * c->plan_in->inc[0].prog.degrees_per_step, c->plan_in->inc[0].arc);
 }
 
 /* ---------------------------------------------------------------- driver */

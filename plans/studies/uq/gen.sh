@@ -134,6 +134,14 @@ while IFS=$'\t' read -r -a row; do
     names+=("$name")
 done < "$tmp/samples.tsv"
 write_eye nominal
+# The nominal scene states the study's standard deviations (keratome-scene(5), UNCERTAINTY), so
+# that augsolve --uncertainty and curvature's band use the sd the samples are drawn with; what
+# the study does not sample (age_slope) is left out (sd 0).
+{
+    echo "uncertainty:"
+    awk -F'\t' 'NR > 1 { printf "  %s: {sd: %s, distribution: %s}\n", $1, $3, $2 }' "$tmp/params.tsv"
+    echo "  age_slope: {sd: 0}"
+} >> "$tmp/scenes/nominal.yaml"
 geo=()
 while IFS=$'\t' read -r p _ _ h _ _; do
     [ "$p" = param ] || [ "$h" = - ] && continue

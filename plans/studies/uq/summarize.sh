@@ -36,32 +36,26 @@ last_row() { # CURVATURE.TSV -> header line and the last step's line
 
 # 2. The first-order band of the nominal eye.
 nom=$out/runs/nominal/run
-band=""
-note="no first-order band: the nominal run has no uncertainty.tsv (this augsolve has no --uncertainty)"
-if [ -f "$nom/uncertainty.tsv" ]; then
-    sensopt=()
-    if [ -f "$out/sens.tsv" ]; then sensopt=(--sens "$out/sens.tsv"); fi
-    "$B/curvature" -q --no-png --no-vtk --no-report "${sensopt[@]}" -o "$tmp/band" "$nom" > "$tmp/band.txt"
-    band=$tmp/band/curvature.tsv
-    note="first-order band: $(grep -c -v -e '^param' "$nom/uncertainty.tsv") quantities in uncertainty.tsv; "
-    note+=$(grep '^left out' "$tmp/band.txt" || echo "none left out")
-    [ -f "$out/sens.tsv" ] || note+=" (make geometry writes the --sens file for the fd quantities)"
-elif [ -f "$out/sens.tsv" ] && [ -f "$nom/step-0000.vtk" ]; then
-    # No augsolve --uncertainty: the band from the geometry target's central differences alone,
-    # every quantity of params.tsv with rows in sens.tsv marked fd in an uncertainty.tsv of this
-    # summary's own (in a folder that links the nominal run's files; the run is not touched).
-    mkdir -p "$tmp/fd/run"
-    ln -s "$out/runs/nominal/eye.msh" "$tmp/fd/eye.msh"
-    for f in "$nom"/*; do ln -s "$f" "$tmp/fd/run/${f##*/}"; done
-    awk -F'\t' -v OFS='\t' 'FNR == 1 { f++; next } f == 1 { has[$1] = 1; next }
-        { print $1, $5, $6, $3, (($1 in has) ? "fd" : "none"), "study.spec" }' "$out/sens.tsv" "$out/params.tsv" |
-        { printf 'param\tunit\tvalue\tsd\tmethod\tsource\n'; cat; } > "$tmp/fd/run/uncertainty.tsv"
-    "$B/curvature" -q --no-png --no-vtk --no-report --sens "$out/sens.tsv" -o "$tmp/band" "$tmp/fd/run" > "$tmp/band.txt"
-    band=$tmp/band/curvature.tsv
-    note="first-order band by central differences of the whole pipeline (make geometry; no augsolve --uncertainty): "
-    note+="$(awk -F'\t' '$5 == "fd" { printf "%s%s", n++ ? ", " : "", $1 }' "$tmp/fd/run/uncertainty.tsv")"
-    note+=$(grep '^left out' "$tmp/band.txt" | sed 's/^/; /' || true)
+# The nominal run is solved with augsolve --uncertainty (task.sh); a nominal run without its
+# uncertainty.tsv is stale (solved before issue 21) and is refused rather than summarized
+# without a band. OUT/sens.tsv (make geometry) holds central differences for every quantity with
+# a step h; curvature takes --sens rows only for the quantities augsolve marks fd (thickness,
+# depth): the others have their derivatives from augsolve.
+[ -f "$nom/uncertainty.tsv" ] || {
+    echo "summarize.sh: $nom/uncertainty.tsv: missing: the nominal run was not solved with augsolve --uncertainty (rerun it: rm -r $out/runs/nominal; make)" >&2
+    exit 1
+}
+sensopt=()
+if [ -f "$out/sens.tsv" ]; then
+    awk -F'\t' 'FNR == 1 { f++; if (f == 2) print; next } f == 1 { if ($5 == "fd") fd[$1] = 1; next } $1 in fd' \
+        "$nom/uncertainty.tsv" "$out/sens.tsv" > "$tmp/sens.tsv"
+    sensopt=(--sens "$tmp/sens.tsv")
 fi
+"$B/curvature" -q --no-png --no-vtk --no-report "${sensopt[@]}" -o "$tmp/band" "$nom" > "$tmp/band.txt"
+band=$tmp/band/curvature.tsv
+note="first-order band: $(grep -c -v -e '^param' "$nom/uncertainty.tsv") quantities in uncertainty.tsv; "
+note+=$(grep '^left out' "$tmp/band.txt" || echo "none left out")
+[ -f "$out/sens.tsv" ] || note+=" (make geometry writes the --sens file for the fd quantities)"
 
 # 3. uq.tsv
 {

@@ -5,8 +5,8 @@
 #   augsolve | curvature into OUT/runs/NAME/run/ (curvature.tsv, steps.tsv, run.yaml, the logs,
 #   time.tsv); the mesh and the step VTKs are deleted afterwards unless KEEP_VTK=1, except for
 #   the nominal eye's, kept so that curvature can read its bands again with --sens.
-# The nominal eye is solved with augsolve --uncertainty when augsolve has that option (issue 21:
-# the first-order band); the sampled eyes without it.
+# The nominal eye is solved with augsolve --uncertainty (issue 21: the first-order band, its sd
+# the study's: gen.sh writes them into the nominal scene); the sampled eyes without it.
 # Everything is written under a temporary name and renamed when the job succeeded: a failed or
 # interrupted job leaves nothing make would take as done. BLAS threads are pinned to one.
 # Environment: KT_BUILD (the tools' folder), KEEP_VTK, AUGSOLVE_FLAGS (added to augsolve).
@@ -29,7 +29,7 @@ t0=$(now)
     { tail -n 20 "$part/mesh-prep.log" >&2; echo "task.sh: mesh-prep $name failed" >&2; exit 1; }
 t1=$(now)
 flags=()
-if [ "$name" = nominal ] && "$B/augsolve" --help 2>&1 | grep -q -- '--uncertainty'; then flags=(--uncertainty); fi
+if [ "$name" = nominal ]; then flags=(--uncertainty); fi
 set +e
 "$B/cutplan" -q "$out/plans/$name.yaml" "$part/eye.msh" -o - 2> "$part/cutplan.log" |
     "$B/augsolve" -q "$part/eye.msh" - -o "$part/run" "${flags[@]}" ${AUGSOLVE_FLAGS:-} > "$part/augsolve.log" 2>&1
