@@ -15,13 +15,7 @@
 #include "svg.h"
 
 static const char CSS[] =
-    "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;color:#1d232a;background:#f4f5f7;margin:0}\n"
-    "main{max-width:1180px;margin:0 auto;padding:18px 26px 40px}\n"
-    "header{background:#18324a;color:#fff;padding:18px 26px}\n"
-    "header h1{margin:0;font-size:24px;font-weight:600}header p{margin:4px 0 0;color:#c9d6e3;font-size:14px}\n"
-    "h2{font-size:18px;margin:28px 0 8px;border-bottom:2px solid #d5dae0;padding-bottom:4px}\n"
-    ".cards{display:flex;flex-wrap:wrap;gap:12px;margin-top:16px}\n"
-    ".card{background:#fff;border-radius:8px;padding:10px 14px;box-shadow:0 1px 3px rgba(0,0,0,.12);min-width:150px}\n"
+    KT_HTML_CSS_PAGE
     ".card b{display:block;font-size:20px}.card span.l{font-size:12px;color:#5b6670}\n"
     ".row{display:flex;flex-wrap:wrap;gap:16px}\n"
     "figure{background:#fff;margin:0;padding:10px 12px;border-radius:8px;box-shadow:0 1px 3px rgba(0,0,0,.12);flex:1 1 420px}\n"

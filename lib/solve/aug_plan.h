@@ -103,6 +103,12 @@ int kt_plan_factor_build(kt_plan_factor *F, const kt_edits_plan *p, const kt_mes
                          const kt_materials *mats, int ordering, int factor, int panel,
                          double max_ratio, kt_err *e);
 void kt_plan_factor_free(kt_plan_factor *F);
+/* A = T^T K T: every entry K(i, j) of the final mesh's lower-stored symmetric stiffness K (and
+ * its mirror K(j, i)) handed to put(ctx, v, w, x) for every pair of variables v >= w whose
+ * chains (a DOF's node and the node's ancestors, same component) hold i and j. KT_EINPUT when
+ * a node is split more than 256 times. */
+int kt_plan_transform(const kt_edits_plan *p, const cholmod_sparse *K,
+                      void (*put)(void *ctx, int v, int w, double x), void *ctx, kt_err *e);
 /* Split every supernode of the symbolic supernodal factor L that holds a column >= nK into
  * panels of width columns, each with the supernode's rows from its first column on (a finer
  * supernodal partition of the same L: the dense trailing block is then stored lower, in

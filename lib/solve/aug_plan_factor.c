@@ -29,17 +29,6 @@ void kt_plan_factor_free(kt_plan_factor *F)
     memset(F, 0, sizeof *F);
 }
 
-/* The variables DOF i of the final mesh sums: its node and the node's ancestors, same
- * component. Returns the count, or -1 when the chain is deeper than CHAIN_MAX. */
-static int chain(const kt_edits_plan *p, int i, int *v)
-{
-    int n = 0, c = i % 3;
-    for (int a = i / 3; a >= 0; a = p->parent[a]) {
-        if (n == CHAIN_MAX) return -1;
-        v[n++] = 3 * a + c;
-    }
-    return n;
-}
 
 /* Positions of the free variables, in variable order (intact DOFs first, then the increments
  * in release order), and how many are present after each step. */
@@ -69,8 +58,9 @@ typedef struct sink {
     int fill;
 } sink;
 
-static void put(sink *s, int v, int w, double x)
+static void put(void *ctx, int v, int w, double x)
 {
+    sink *s = ctx;
     kt_plan_factor *F = s->F;
     int pv = F->pos[v], pw = F->pos[w];
     if (pv >= 0 && pw >= 0) {
@@ -92,15 +82,29 @@ static void put(sink *s, int v, int w, double x)
     }
 }
 
+/* The variables DOF i of the final mesh sums: its node and the node's ancestors, same
+ * component. Returns the count, or -1 when the chain is deeper than CHAIN_MAX. */
+static int chain(const kt_edits_plan *p, int i, int *v)
+{
+    int n = 0, c = i % 3;
+    for (int a = i / 3; a >= 0; a = p->parent[a]) {
+        if (n == CHAIN_MAX) return -1;
+        v[n++] = 3 * a + c;
+    }
+    return n;
+}
+
 /* K(i, j) of the full symmetric K into every pair of variables (v >= w) that sum i and j. */
-static void scatter(sink *s, const int *ci, int ni, const int *cj, int nj, double x)
+static void scatter(void (*put)(void *, int, int, double), void *ctx, const int *ci, int ni,
+                    const int *cj, int nj, double x)
 {
     for (int a = 0; a < ni; a++)
         for (int b = 0; b < nj; b++)
-            if (ci[a] >= cj[b]) put(s, ci[a], cj[b], x);
+            if (ci[a] >= cj[b]) put(ctx, ci[a], cj[b], x);
 }
 
-static int transform(sink *s, const kt_edits_plan *p, const cholmod_sparse *K, kt_err *e)
+int kt_plan_transform(const kt_edits_plan *p, const cholmod_sparse *K,
+                      void (*put)(void *ctx, int v, int w, double x), void *ctx, kt_err *e)
 {
     const int *Kp = K->p, *Ki = K->i, *Knz = K->nz;
     const double *Kx = K->x;
@@ -115,8 +119,8 @@ static int transform(sink *s, const kt_edits_plan *p, const cholmod_sparse *K, k
             if (i < j) continue; /* lower triangle only */
             int ni = chain(p, i, ci);
             if (ni < 0) return kt_fail(e, KT_EINPUT, "a node is split more than %d times", CHAIN_MAX);
-            scatter(s, ci, ni, cj, nj, Kx[q]);
-            if (i != j) scatter(s, cj, nj, ci, ni, Kx[q]); /* the mirror entry K(j, i) */
+            scatter(put, ctx, ci, ni, cj, nj, Kx[q]);
+            if (i != j) scatter(put, ctx, cj, nj, ci, ni, Kx[q]); /* the mirror entry K(j, i) */
         }
     }
     return KT_OK;
@@ -130,7 +134,7 @@ static int assemble(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *fi
     cholmod_sparse *K = kt_fem_assemble(final, mats, NULL, &F->c, e);
     if (!K) return e->code;
     sink s = {F, NULL, 0, 0, 0};
-    if (transform(&s, p, K, e) == KT_OK) {
+    if (kt_plan_transform(p, K, put, &s, e) == KT_OK) {
         s.T = cholmod_allocate_triplet(F->nfree, F->nfree, s.nt ? s.nt : 1, -1, CHOLMOD_REAL, &F->c);
         F->lrow = kt_calloc(s.nl ? s.nl : 1, sizeof(int), e);
         F->lcol = kt_calloc(s.nl ? s.nl : 1, sizeof(int), e);
@@ -141,7 +145,7 @@ static int assemble(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *fi
         F->nlift = (int)s.nl;
         s.nt = s.nl = 0;
         s.fill = 1;
-        transform(&s, p, K, e);
+        kt_plan_transform(p, K, put, &s, e);
         s.T->nnz = s.nt;
     }
     cholmod_free_sparse(&K, &F->c);

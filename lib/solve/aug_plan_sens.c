@@ -4,8 +4,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { CHAIN_MAX = 256 };
-
 void kt_plan_sens_free(kt_plan_sens *D)
 {
     if (D->started) {
@@ -23,61 +21,29 @@ void kt_plan_sens_free(kt_plan_sens *D)
     memset(D, 0, sizeof *D);
 }
 
-/* The variables final DOF i sums: its node's and its ancestors', same component. */
-static int chain(const kt_edits_plan *p, int i, int *v)
-{
-    int n = 0, c = i % 3;
-    for (int a = i / 3; a >= 0; a = p->parent[a]) {
-        if (n == CHAIN_MAX) return -1;
-        v[n++] = 3 * a + c;
-    }
-    return n;
-}
+/* The variables' matrix as triplets (lower: v >= w); T NULL only counts. */
+typedef struct tsink {
+    cholmod_triplet *T;
+    size_t nt;
+} tsink;
 
-/* T^T K T of a lower-stored symmetric K of the final mesh, lower triangle, variable numbering.
- * fill = 0 counts the entries. */
-static int transform(const kt_edits_plan *p, const cholmod_sparse *K, cholmod_triplet *T,
-                     size_t *nt, int fill, kt_err *e)
+static void tput(void *ctx, int v, int w, double x)
 {
-    const int *Kp = K->p, *Ki = K->i, *Knz = K->nz;
-    const double *Kx = K->x;
-    int ci[CHAIN_MAX], cj[CHAIN_MAX];
-    int *Ti = fill ? T->i : NULL, *Tj = fill ? T->j : NULL;
-    double *Tx = fill ? T->x : NULL;
-    *nt = 0;
-    for (int j = 0; j < (int)K->ncol; j++) {
-        int nj = chain(p, j, cj);
-        int end = K->packed ? Kp[j + 1] : Kp[j] + Knz[j];
-        for (int q = Kp[j]; q < end; q++) {
-            int i = Ki[q];
-            if (i < j) continue;
-            int ni = chain(p, i, ci);
-            if (ni < 0 || nj < 0)
-                return kt_fail(e, KT_EINPUT, "a node is split more than %d times", CHAIN_MAX);
-            for (int o = 0; o < 1 + (i != j); o++) { /* K(i, j), and its mirror K(j, i) */
-                const int *ca = o ? cj : ci, *cb = o ? ci : cj;
-                int na = o ? nj : ni, nb = o ? ni : nj;
-                for (int a = 0; a < na; a++)
-                    for (int b = 0; b < nb; b++) {
-                        if (ca[a] < cb[b]) continue;
-                        if (fill) {
-                            Ti[*nt] = ca[a];
-                            Tj[*nt] = cb[b];
-                            Tx[*nt] = Kx[q];
-                        }
-                        (*nt)++;
-                    }
-            }
-        }
+    tsink *s = ctx;
+    if (s->T) {
+        ((int *)s->T->i)[s->nt] = v;
+        ((int *)s->T->j)[s->nt] = w;
+        ((double *)s->T->x)[s->nt] = x;
     }
-    return KT_OK;
+    s->nt++;
 }
 
 static cholmod_sparse *variable_matrix(kt_plan_sens *D, const kt_edits_plan *p,
                                        const cholmod_sparse *K, kt_err *e)
 {
-    size_t nt = 0;
-    if (transform(p, K, NULL, &nt, 0, e)) return NULL;
+    tsink count = {NULL, 0};
+    if (kt_plan_transform(p, K, tput, &count, e)) return NULL;
+    size_t nt = count.nt;
     cholmod_triplet *T = cholmod_allocate_triplet(D->nvar, D->nvar, nt ? nt : 1, -1,
                                                   CHOLMOD_REAL, &D->c);
     if (!T) {
@@ -85,7 +51,9 @@ static cholmod_sparse *variable_matrix(kt_plan_sens *D, const kt_edits_plan *p,
         return NULL;
     }
     cholmod_sparse *A = NULL;
-    if (transform(p, K, T, &nt, 1, e) == KT_OK) {
+    tsink fill = {T, 0};
+    if (kt_plan_transform(p, K, tput, &fill, e) == KT_OK) {
+        nt = fill.nt;
         T->nnz = nt;
         A = cholmod_triplet_to_sparse(T, nt, &D->c);
         if (!A) kt_fail(e, KT_ERUN, "out of memory for a matrix derivative");
