@@ -71,8 +71,13 @@ bash plans/studies/uq/gen.sh plans/studies/uq/study.spec "$tmp/g" ci 3
 grep -qx "SAMPLES := s000 s001 s002" "$tmp/g/study.mk" || fail "study.mk: $(cat "$tmp/g/study.mk")"
 grep -qx "GEOMETRY := E_inplane_plus E_inplane_minus G_transverse_plus G_transverse_minus iop_plus iop_minus limbal_density_plus limbal_density_minus thickness_plus thickness_minus depth_plus depth_minus" "$tmp/g/study.mk" || fail "GEOMETRY"
 [ "$(wc -l < "$tmp/g/samples.tsv")" -eq 4 ] || fail "samples.tsv rows"
-# the nominal eye: the base scene on the quick mesh, nothing else moved
-diff <(grep -v '^#' "$tmp/g/scenes/nominal.yaml" | grep -v -E '^    (optical_zone|incision|cornea|sclera):') \
+# the nominal eye: the base scene on the quick mesh, nothing else moved, plus the study's
+# uncertainty section at its end (the first-order band's sds are the sampled ones)
+awk '/^uncertainty:/ { u = 1 } u' "$tmp/g/scenes/nominal.yaml" > "$tmp/unc"
+grep -qx '  E_inplane: {sd: 0.6, distribution: normal}' "$tmp/unc" &&
+    grep -qx '  depth: {sd: 15, distribution: normal}' "$tmp/unc" &&
+    grep -qx '  age_slope: {sd: 0}' "$tmp/unc" || fail "the nominal scene's uncertainty section: $(cat "$tmp/unc")"
+diff <(awk '/^uncertainty:/ { exit } 1' "$tmp/g/scenes/nominal.yaml" | grep -v '^#' | grep -v -E '^    (optical_zone|incision|cornea|sclera):') \
      <(grep -v '^#' plans/eye.yaml | grep -v -E '^    (optical_zone|incision|incision_floor|cornea|sclera):') ||
     fail "the nominal scene differs from plans/eye.yaml beyond the mesh sizes"
 # a sample: its E_inplane moved by the sampled deviation, in the cornea and the limbus
