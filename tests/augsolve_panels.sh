@@ -12,10 +12,7 @@ tmp=$(mktemp -d /tmp/kt-panels.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 printf 'leak:libgmsh.so\n' > "$tmp/lsan.supp"
 export LSAN_OPTIONS="suppressions=$tmp/lsan.supp:print_suppressions=0"
-sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.7 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.5 mm/' \
-    -e 's/^    cornea: [0-9.]* mm/    cornea: 0.9 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 3 mm/' \
-    -e '/^    incision_floor:/d' \
-    plans/eye.yaml > "$tmp/eye.yaml"
+bash tests/lib/coarse-eye.sh 0.7 0.5 0.9 3 "$tmp/eye.yaml" || { echo "FAILED: could not coarsen the eye"; exit 1; }
 grep -q "incision: 0.5 mm" "$tmp/eye.yaml" || { echo "FAILED: could not coarsen the eye"; exit 1; }
 sed -e "s|^scene:.*|scene: $tmp/eye.yaml|" -e 's|degrees_per_step:.*|degrees_per_step: 10 deg|' \
     plans/lri-single-30.yaml > "$tmp/plan.yaml"

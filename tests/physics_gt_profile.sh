@@ -21,10 +21,7 @@ tmp=$(mktemp -d /tmp/kt-gtprof.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 printf 'leak:libgmsh.so\n' > "$tmp/lsan.supp"
 export LSAN_OPTIONS="suppressions=$tmp/lsan.supp:print_suppressions=0"
-sed -e 's/^    optical_zone: [0-9.]* mm/    optical_zone: 0.7 mm/' -e 's/^    incision: [0-9.]* mm/    incision: 0.5 mm/' \
-    -e 's/^    cornea: [0-9.]* mm/    cornea: 0.9 mm/' -e 's/^    sclera: [0-9.]* mm/    sclera: 3 mm/' \
-    -e '/^    incision_floor:/d' \
-    plans/eye.yaml > "$tmp/flat.yaml"
+bash tests/lib/coarse-eye.sh 0.7 0.5 0.9 3 "$tmp/flat.yaml" || { echo "FAILED: could not coarsen the eye"; exit 1; }
 sed -e 's/^    G_transverse: 9.5 kPa /    G_transverse: 9.5 kPa\n    G_transverse_profile: on/' "$tmp/flat.yaml" > "$tmp/eye.yaml"
 grep -q "incision: 0.5 mm" "$tmp/eye.yaml" && grep -q "^    G_transverse_profile: on" "$tmp/eye.yaml" ||
     { echo "FAILED: could not coarsen the eye or set the profile"; exit 1; }
