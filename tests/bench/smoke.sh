@@ -56,6 +56,6 @@ awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
     END { exit !(n >= 1 && !bad) }' "$R/tradeoff/tradeoff.tsv" ||
     fail "tradeoff: an augmented run missing, failed or off a fresh factorization by more than 1e-8"
 awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-    { n++; if ($(c["verdict"]) ~ /^SILENT/) bad = 1 } END { exit !(n >= 5 && !bad) }' "$R/stability/stability.tsv" ||
+    { n++; if ($(c["verdict"]) ~ /^(SILENT|error$)/) bad = 1 } END { exit !(n >= 5 && !bad) }' "$R/stability/stability.tsv" ||
     fail "stability: a case is silently wrong"
 echo "bench smoke: every part ran on its smallest cases ($(($(wc -l < "$R/ledger.tsv") - 1)) runs)"
