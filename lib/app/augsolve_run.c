@@ -197,6 +197,7 @@ static int solve_physics(run *r, const kt_aug_run_opts *o, kt_err *e)
     } else if (kt_physics_finish(&r->scene, &r->mesh, &r->fem, &r->phys, e)) {
         return e->code;
     }
+    r->prob.perm = r->phys.perm; /* the prestress solve's order: the planned method's too */
     if (r->phys.prestressed) {
         kt_edits_plan_zero_values(&r->plan);
         kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
@@ -206,8 +207,8 @@ static int solve_physics(run *r, const kt_aug_run_opts *o, kt_err *e)
 }
 
 /* The step's VTK: the cut mesh, its displacement (NaN off the --output set), origins and
- * reactions (none with --output), then the per-tet inputs of the physics (the cut keeps the
- * tets, so step 0's fields hold on every step; keratome-vtk(5)). */
+ * reactions (none with --output); step 0's also the per-tet inputs of the physics (the cut
+ * keeps the tets, so step 0's fields hold on every step: written once, keratome-vtk(5)). */
 static int write_vtk(run *r, const kt_aug_run_opts *o, kt_err *e)
 {
     if (!o->vtk) return KT_OK;
@@ -231,7 +232,7 @@ static int write_vtk(run *r, const kt_aug_run_opts *o, kt_err *e)
         f[nf].ncomp = 3;
         f[nf].v = (double *)kt_solver_dudp(r->sv, k);
     }
-    for (int k = 0; k < r->phys.ncell; k++) f[nf++] = r->phys.cell[k];
+    for (int k = 0; kt_solver_at(r->sv) == 0 && k < r->phys.ncell; k++) f[nf++] = r->phys.cell[k];
     kt_vtk_write_tets(path, m, f, nf, o->binary, e);
     free(origin);
     return e->code;
