@@ -120,6 +120,12 @@ int kt_fem_lift(const cholmod_sparse *K, const unsigned char *fixed, const doubl
  * above 1e-10 as KT_ERUN. */
 int kt_fem_solve(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
                  const double *g, const double *f, double *u, cholmod_common *c, kt_err *e);
+/* kt_fem_solve, and *perm := a copy of the fill-reducing order its factorization used (3*nn
+ * DOFs, L->Perm; caller frees), for a later factorization of a matrix of the same pattern
+ * (augsolve's planned method reuses the prestress solve's: kt_aug_problem.perm). */
+int kt_fem_solve_order(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
+                       const double *g, const double *f, double *u, int **perm,
+                       cholmod_common *c, kt_err *e);
 
 /* kt_fem_solve, then nmore solves with the same factorization: for k = 0..nmore-1, more(ctx, k,
  * u, b) fills b (3*nn, zeroed on entry) from the first solution u, and umore + k 3nn gets the

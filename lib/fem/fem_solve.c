@@ -93,10 +93,10 @@ static int solve_with(cholmod_sparse *A, cholmod_factor *L, double *b, double *u
     return KT_OK;
 }
 
-int kt_fem_solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
+static int solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
                       const double *g, const double *f, double *u, int nmore,
-                      kt_fem_more_rhs more, void *ctx, double *umore, cholmod_common *c,
-                      kt_err *e)
+                      kt_fem_more_rhs more, void *ctx, double *umore, int **perm,
+                      cholmod_common *c, kt_err *e)
 {
     cholmod_sparse *K = kt_fem_assemble(m, mats, NULL, c, e);
     if (!K) return e->code;
@@ -112,6 +112,12 @@ int kt_fem_solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned
     if (e->code || !(L = kt_chol_analyze_factor(K, c, "direct solve", e)) ||
         solve_with(K, L, b, u, c, e))
         goto done;
+    if (perm) {
+        if (!(*perm = kt_calloc(n ? n : 1, sizeof(int), e))) goto done;
+        if (L->Perm) memcpy(*perm, L->Perm, n * sizeof(int));
+        else
+            for (size_t i = 0; i < n; i++) (*perm)[i] = (int)i;
+    }
     for (int k = 0; k < nmore; k++) { /* homogeneous Dirichlet data: the fixed rows are 0 */
         memset(b, 0, n * sizeof(double));
         if (more(ctx, k, u, b, e)) goto done;
@@ -126,8 +132,24 @@ done:
     return e->code;
 }
 
+int kt_fem_solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
+                      const double *g, const double *f, double *u, int nmore,
+                      kt_fem_more_rhs more, void *ctx, double *umore, cholmod_common *c,
+                      kt_err *e)
+{
+    return solve_more(m, mats, fixed, g, f, u, nmore, more, ctx, umore, NULL, c, e);
+}
+
 int kt_fem_solve(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
                  const double *g, const double *f, double *u, cholmod_common *c, kt_err *e)
 {
-    return kt_fem_solve_more(m, mats, fixed, g, f, u, 0, NULL, NULL, NULL, c, e);
+    return solve_more(m, mats, fixed, g, f, u, 0, NULL, NULL, NULL, NULL, c, e);
+}
+
+int kt_fem_solve_order(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
+                       const double *g, const double *f, double *u, int **perm,
+                       cholmod_common *c, kt_err *e)
+{
+    *perm = NULL;
+    return solve_more(m, mats, fixed, g, f, u, 0, NULL, NULL, NULL, perm, c, e);
 }

@@ -17,6 +17,7 @@ void kt_physics_free(kt_physics *ph)
     free(ph->frame);
     free(ph->cst);
     free(ph->cellv);
+    free(ph->perm);
     memset(ph, 0, sizeof *ph);
 }
 
@@ -131,13 +132,21 @@ static int prestress(const kt_mesh *m, const kt_fem_problem *fp, kt_physics *ph,
     kt_fem_tetdata mat_only = {m->ne, ph->td.C, NULL, NULL};
     kt_materials mm = fp->mats;
     mm.td = ph->td.C ? &mat_only : NULL;
+    /* ordered by METIS alone (CHOLMOD's default would run AMD first and METIS after it): the
+     * order kept in ph->perm is then the one augsolve's planned method would make itself for
+     * the intact block (METIS), and it reuses it instead (kt_aug_problem.perm) */
+    int nm = c->nmethods, ord = c->method[0].ordering;
+    c->nmethods = 1;
+    c->method[0].ordering = CHOLMOD_METIS;
     if (!e->code &&
         (S && S->nd ? kt_fem_sens_prestress(S, m, fp, &mm, f, u, c, e)
-                    : kt_fem_solve(m, &mm, fp->fixed, fp->g, f, u, c, e)) == KT_OK &&
+                    : kt_fem_solve_order(m, &mm, fp->fixed, fp->g, f, u, &ph->perm, c, e)) == KT_OK &&
         kt_fem_stress(m, &mm, u, ph->td.sig, e) == KT_OK) {
         ph->prestressed = 1;
         ph->sig_apex = apex_stress(m, ph->td.sig);
     }
+    c->nmethods = nm;
+    c->method[0].ordering = ord;
     free(f);
     free(u);
     return e->code;

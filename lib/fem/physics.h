@@ -26,6 +26,10 @@ typedef struct kt_physics {
                            1 for a fibre region, else 0; an isotropic tet: E, E,
                            E / (2 (1 + nu)), nu, 0, 0 (kt_fem_fibre_matrix of these is its C) */
     double *cellv;      /* owned: the values of cell[] */
+    int *perm;          /* owned, NULL: the fill-reducing order of the intact stiffness (3 nn
+                           DOFs) the prestress solve factored with (kt_fem_solve_order): the
+                           same pattern as every later stiffness of the intact mesh, so
+                           augsolve's planned method orders its intact block by it */
     kt_vtk_field cell[KT_PHYSICS_NFIELD]; /* every per-tet input as a VTK cell field */
     int ncell;          /* (keratome-vtk(5)); kt_physics_cell_fields */
 } kt_physics;

@@ -20,7 +20,8 @@ void kt_aug_opts_default(kt_aug_opts *o)
 
 kt_aug_problem kt_aug_problem_of(const kt_mesh *m, const kt_fem_problem *fp)
 {
-    return (kt_aug_problem){m, &fp->mats, fp->fixed, fp->g, fp->npress, fp->press, fp->nfix, fp->fix};
+    return (kt_aug_problem){m, &fp->mats, fp->fixed, fp->g, fp->npress, fp->press, fp->nfix,
+                            fp->fix, NULL};
 }
 
 static int word(const char *s, const char *const *names, int n, int *v)

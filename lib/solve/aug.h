@@ -80,6 +80,10 @@ typedef struct kt_aug_problem {
     const kt_aug_pressure *press;
     int nfix;
     const kt_aug_fixsurf *fix;
+    const int *perm;               /* NULL, or a fill-reducing order of the intact stiffness's
+                                      3*nn DOFs already made (the prestress solve's,
+                                      kt_physics.perm): the planned method orders its intact
+                                      block by it instead of a METIS run of its own */
 } kt_aug_problem;
 
 /* The problem of mesh m bound as fp (kt_fem_bind or kt_physics_problem): pointers into both. */

@@ -82,6 +82,7 @@ typedef struct kt_plan_factor {
      * root_cols: supernodes, columns of the last one. */
     double fl_K, fl_W, fl_S, x_K, x_W, x_S;
     int nsuper, root_cols;
+    int reused_order;           /* 1: the intact block is in the given order (perm0), no METIS run */
     int refused;                /* 1: the planned factor is too large (why), not factored */
     char why[256];
 } kt_plan_factor;
@@ -102,6 +103,14 @@ typedef struct kt_plan_factor {
 int kt_plan_factor_build(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
                          const kt_materials *mats, int ordering, int factor, int panel,
                          double max_ratio, kt_err *e);
+/* kt_plan_factor_build with perm0 (NULL, or a fill-reducing order of the intact mesh's 3 nn0
+ * DOFs made for a matrix of the same pattern: kt_aug_problem.perm): with ordering METIS the
+ * intact block is ordered by perm0 restricted to its free DOFs (then postordered on its tree)
+ * instead of a METIS run of its own; the reference figures lnz_ref and fl_ref are then those
+ * of that order. */
+int kt_plan_factor_build_with(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
+                              const kt_materials *mats, int ordering, const int *perm0,
+                              int factor, int panel, double max_ratio, kt_err *e);
 void kt_plan_factor_free(kt_plan_factor *F);
 /* A = T^T K T: every entry K(i, j) of the final mesh's lower-stored symmetric stiffness K (and
  * its mirror K(j, i)) handed to put(ctx, v, w, x) for every pair of variables v >= w whose

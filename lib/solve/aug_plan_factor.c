@@ -195,8 +195,24 @@ static cholmod_sparse *intact_block(kt_plan_factor *F)
     return B;
 }
 
-/* P: the intact block's fill-reducing order (postordered on its tree), then the increments. */
-static int *order(kt_plan_factor *F, int ordering, kt_err *e)
+/* The free intact DOFs in the order of perm0 (3 nn0 DOFs; the constrained ones dropped) into
+ * P[0..nK); -1 when perm0 is not a permutation of them. */
+static int restrict_order(const kt_plan_factor *F, const int *perm0, int nn0, int *P)
+{
+    int n = 0, nvar = 3 * nn0;
+    for (int k = 0; k < nvar; k++) {
+        int v = perm0[k];
+        if (v < 0 || v >= nvar) return -1;
+        if (F->pos[v] < 0) continue;
+        if (n == F->nK) return -1;
+        P[n++] = F->pos[v];
+    }
+    return n == F->nK ? 0 : -1;
+}
+
+/* P: the intact block's fill-reducing order (postordered on its tree), then the increments.
+ * With perm0 (ordering METIS) the order is perm0's, analysed without a METIS run. */
+static int *order(kt_plan_factor *F, int ordering, const int *perm0, int nn0, kt_err *e)
 {
     int *P = kt_calloc((size_t)F->nfree ? (size_t)F->nfree : 1, sizeof(int), e);
     if (!P) return NULL;
@@ -208,7 +224,15 @@ static int *order(kt_plan_factor *F, int ordering, kt_err *e)
     F->c.postorder = 1;
     F->c.supernodal = CHOLMOD_SIMPLICIAL;
     kt_err ae = {0};
-    cholmod_factor *Lb = B ? kt_chol_analyze(B, &F->c, &ae) : NULL;
+    cholmod_factor *Lb = NULL;
+    if (B && perm0 && ordering == KT_AUG_ORDER_METIS && restrict_order(F, perm0, nn0, P) == 0) {
+        F->c.method[0].ordering = CHOLMOD_GIVEN;
+        if (!(Lb = cholmod_analyze_p(B, P, NULL, 0, &F->c)))
+            kt_fail(&ae, KT_ERUN, "CHOLMOD analysis failed (status %d)", F->c.status);
+        F->reused_order = 1;
+    } else if (B) {
+        Lb = kt_chol_analyze(B, &F->c, &ae);
+    }
     F->lnz_ref = F->c.lnz;
     F->fl_ref = F->c.fl;
     if (Lb) memcpy(P, Lb->Perm, sizeof(int) * (size_t)F->nK);
@@ -394,13 +418,20 @@ int kt_plan_factor_build(kt_plan_factor *F, const kt_edits_plan *p, const kt_mes
                          const kt_materials *mats, int ordering, int factor, int panel,
                          double max_ratio, kt_err *e)
 {
+    return kt_plan_factor_build_with(F, p, final, mats, ordering, NULL, factor, panel, max_ratio, e);
+}
+
+int kt_plan_factor_build_with(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
+                              const kt_materials *mats, int ordering, const int *perm0,
+                              int factor, int panel, double max_ratio, kt_err *e)
+{
     memset(F, 0, sizeof *F);
     cholmod_start(&F->c);
     F->started = 1;
     if (positions(F, p, e) || assemble(F, p, final, mats, e) || frobenius(F, p->nsteps, e))
         return e->code;
     double t0 = kt_now();
-    int *P = order(F, ordering, e);
+    int *P = order(F, ordering, perm0, p->nn0, e);
     if (!P) return e->code;
     double t1 = kt_now();
     if (factorize(F, P, factor, panel, max_ratio, p->nsteps, e) == KT_OK && !F->refused)

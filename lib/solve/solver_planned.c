@@ -43,8 +43,9 @@ static int planned_create(void **st, const kt_solver_in *in, char *why, size_t n
     P->tol = in->o->tol;
     P->quiet = in->o->quiet;
     kt_plan_factor *F = &P->F;
-    if (kt_plan_factor_build(F, in->plan, in->final, in->prob->mats, in->o->ordering,
-                             in->o->factor, in->o->plan_panel, in->plan_max_ratio, e))
+    if (kt_plan_factor_build_with(F, in->plan, in->final, in->prob->mats, in->o->ordering,
+                                  in->prob->perm, in->o->factor, in->o->plan_panel,
+                                  in->plan_max_ratio, e))
         goto fail;
     kt_log(P->quiet, "augsolve: planned: its flops (sum of squared column counts) %.3g: intact "
            "block %.3g, increment rows of the intact columns %.3g, increments' block %.3g "
@@ -71,9 +72,9 @@ static int planned_create(void **st, const kt_solver_in *in, char *why, size_t n
     }
     kt_log(P->quiet, "augsolve: planned: %d steps, %d free DOFs + %d increments, factor %.0f "
            "nonzeros (%.3gx METIS on the intact block; flops %.3gx) in %.2f s (assembly %.2f s, "
-           "ordering %.2f s)\n", in->plan->nsteps, F->nK, F->nfree - F->nK, F->nnzL,
+           "ordering %.2f s%s)\n", in->plan->nsteps, F->nK, F->nfree - F->nK, F->nnzL,
            F->lnz_plan / F->lnz_ref, F->fl_plan / F->fl_ref, F->t_factor, F->t_assemble,
-           F->t_order);
+           F->t_order, F->reused_order ? ": the prestress solve's" : "");
     if (kt_plan_solve(&P->S, P->plan, F, P->prob, P->tol, e)) goto fail;
     double setup = 1e3 * (F->t_assemble + F->t_order + F->t_factor); /* step 0 holds the factor */
     P->S.row.t_update += setup;

@@ -130,8 +130,9 @@ static void check_frobenius(const kt_plan_factor *F, int nsteps, const char *nam
 }
 
 /* Every step of the plan against a fresh factorization (only on the surface group "only" when
- * given: the restricted back substitution); returns the steps checked. */
-static int run_plan(scenario *s, FILE *f, int ordering, int factor, int panel,
+ * given: the restricted back substitution; perm0: the intact block in that given order,
+ * kt_plan_factor_build_with); returns the steps checked. */
+static int run_plan(scenario *s, FILE *f, int ordering, const int *perm0, int factor, int panel,
                     const char *only, int unsorted, const char *name)
 {
     kt_err e = {0};
@@ -146,9 +147,11 @@ static int run_plan(scenario *s, FILE *f, int ordering, int factor, int panel,
     CHECK(p.usable, "%s: plan refused: %s", name, p.why);
     for (int a = p.nn0; a < p.nn; a++) splits2 += p.parent[a] >= p.nn0;
     CHECK(splits2 > 0, "%s: the stream splits no node twice", name);
-    CHECK(kt_plan_factor_build(&F, &p, &final, &s->mats, ordering, factor, panel,
-                               KT_PLAN_MAX_RATIO, &e) == KT_OK && !F.refused,
+    CHECK(kt_plan_factor_build_with(&F, &p, &final, &s->mats, ordering, perm0, factor, panel,
+                                    KT_PLAN_MAX_RATIO, &e) == KT_OK && !F.refused,
           "%s: factor: %s %s", name, e.msg, F.why);
+    CHECK(F.reused_order == (perm0 != NULL), "%s: the given order %s", name,
+          perm0 ? "was not used" : "used without one");
     if (F.L->is_super && panel > 0) { /* the increments' block is stored in panels */
         const int *Sup = F.L->super;
         int wide = 0;
@@ -356,20 +359,39 @@ int main(void)
     int nsteps = 0;
     CHECK(write_stream(&s, f, &nsteps, &e) == KT_OK, "stream: %s", e.msg);
     CHECK(nsteps == s.nz + 1, "stream: %d steps", nsteps);
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, 0, NULL, 0,
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, NULL, KT_AUG_FACTOR_SUPERNODAL, 0, NULL, 0,
                    "metis supernodal") ==
               nsteps + 1, "metis supernodal: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_NATURAL, KT_AUG_FACTOR_SIMPLICIAL, KT_AUG_PLAN_PANEL, NULL, 0,
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_NATURAL, NULL, KT_AUG_FACTOR_SIMPLICIAL, KT_AUG_PLAN_PANEL, NULL, 0,
                    "natural simplicial") == nsteps + 1, "natural simplicial: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_AMD, KT_AUG_FACTOR_SUPERNODAL, 3, NULL, 0,
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_AMD, NULL, KT_AUG_FACTOR_SUPERNODAL, 3, NULL, 0,
                    "amd supernodal, panels of 3") ==
               nsteps + 1, "amd supernodal: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, KT_AUG_PLAN_PANEL, NULL, 1,
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, NULL, KT_AUG_FACTOR_SUPERNODAL, KT_AUG_PLAN_PANEL, NULL, 1,
                    "metis supernodal, rows read unsorted") == nsteps + 1,
           "metis supernodal, rows read unsorted: not every step checked");
-    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, KT_AUG_FACTOR_SUPERNODAL, 5, "zmax", 0,
+    CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, NULL, KT_AUG_FACTOR_SUPERNODAL, 5, "zmax", 0,
                    "zmax only, panels of 5") ==
               nsteps + 1, "zmax only: not every step checked");
+    /* the intact block in the order of a direct solve of the intact problem (3 nn DOFs, the
+     * constrained ones among them), as augsolve reuses its prestress solve's */
+    {
+        size_t n = 3 * (size_t)s.mesh.nn;
+        double *f0 = calloc(n, sizeof(double)), *u0 = calloc(n, sizeof(double));
+        int *perm = NULL;
+        cholmod_common c;
+        cholmod_start(&c);
+        CHECK(f0 && u0 && kt_fem_solve_order(&s.mesh, &s.mats, s.prob.fixed, s.prob.g, f0, u0,
+                                             &perm, &c, &e) == KT_OK && perm,
+              "the direct solve's order: %s", e.msg);
+        cholmod_finish(&c);
+        CHECK(run_plan(&s, f, KT_AUG_ORDER_METIS, perm, KT_AUG_FACTOR_SUPERNODAL,
+                       KT_AUG_PLAN_PANEL, NULL, 0, "a direct solve's order reused") == nsteps + 1,
+              "a direct solve's order reused: not every step checked");
+        free(perm);
+        free(f0);
+        free(u0);
+    }
     check_size_refusal(&s, f);
     fclose(f);
     check_validation(&s);

@@ -47,7 +47,7 @@ static inline int scenario_box(scenario *s, int nx, int ny, int nz, double h, do
     s->press[0] = (kt_aug_pressure){kt_mesh_find_group(&s->mesh, 2, "ymax")->tag, 0.01};
     s->press[1] = (kt_aug_pressure){kt_mesh_find_group(&s->mesh, 2, "zmax")->tag, -0.004};
     s->fix[0] = (kt_aug_fixsurf){zmin->tag, 7u, {0, 0, gz}};
-    s->prob = (kt_aug_problem){&s->mesh, &s->mats, s->fixed, s->g, 2, s->press, 1, s->fix};
+    s->prob = (kt_aug_problem){&s->mesh, &s->mats, s->fixed, s->g, 2, s->press, 1, s->fix, NULL};
     return 0;
 }
 
