@@ -16,6 +16,7 @@
 #   SILENT-singular-K  augsolve exited 0 while the --verify run's fresh factorization found the
 #             stiffness singular
 #   error     augsolve exited 0 but its --verify run failed otherwise (see its log)
+#   verify-timeout  augsolve exited 0 but its --verify run ran out of time (no verdict)
 
 # derive SRC DST SED_EXPRESSION...: a scene or plan with fields replaced (cached while unchanged)
 derive() {
@@ -44,9 +45,13 @@ stab_case() {
     local ver="NaN	NaN	NaN	NaN	NaN	NaN	NaN" singular=0 verdict
     if [ $rc -eq 0 ]; then
         rm -rf "${RUNS:?}/$name-verify"
-        if run "$name-verify" "$T_STAB" "$B/augsolve" "$msh" "$ed" -o "$RUNS/$name-verify" --scene "$scene" \
-            --no-vtk -q --verify --verify-tol 1e300 "$@"; then
+        run "$name-verify" "$T_STAB" "$B/augsolve" "$msh" "$ed" -o "$RUNS/$name-verify" --scene "$scene" \
+            --no-vtk -q --verify --verify-tol 1e300 "$@"
+        local vrc=$?
+        if [ $vrc -eq 0 ]; then
             ver=$(awk -F'\t' -f "$BENCH/awk/stability-verify.awk" "$RUNS/$name-verify/steps.tsv")
+        elif [ $vrc -eq 124 ]; then
+            singular=-2 # the --verify run timed out: no verdict
         else
             # the fresh factorization of --verify found the current stiffness singular (a mechanism)
             singular=$(grep -c 'not positive definite' "$LOGS/$name-verify.err")
