@@ -13,7 +13,10 @@
 #                |dSIA/dp| sd_p in D, ranked (1: the largest); the quantities left out have none
 #   report.md    the per-arc SIA table of every family, the tornado ranking, every reading at the
 #                longest arc of the last family, and what the first-order band left out
-# Written under temporary names, renamed at the end (uq.tsv last: make's target).
+# Written under temporary names, renamed at the end (uq.tsv last: make's target). PARTIAL=1
+# (`make summary PARTIAL=1` does not wait for the eyes: run summarize.sh by hand) summarizes the
+# eyes done so far and says so in report.md: a part of a Latin hypercube, each eye drawn from
+# the right marginals, the strata no longer balanced.
 set -euo pipefail
 out=$1
 B=${KT_BUILD:?KT_BUILD not set}
@@ -32,6 +35,7 @@ R="sia_D k_steep_D k_flat_D cyl_D coupling_ratio flattening_D steepening_D dk_me
     i=0
     for s in "${samples[@]}"; do
         dev=$(sed -n "$((i + 2))p" "$out/samples.tsv")
+        if [ "${PARTIAL:-0}" = 1 ] && [ ! -f "$out/runs/$s/time.tsv" ]; then i=$((i + 1)); continue; fi
         for fam in "${families[@]}"; do
             awk -F'\t' -v R="$R" -v D="$dev" -v F="$fam" -v S="$step_deg" '
                 NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
@@ -63,12 +67,10 @@ for fam in "${families[@]}"; do
         sensopt=(--sens "$tmp/sens-$fam.tsv")
     fi
     "$B/curvature" -q --no-png --no-vtk --no-report "${sensopt[@]}" -o "$tmp/band-$fam" "$nom" > "$tmp/band-$fam.txt"
-    if [ -z "$note" ]; then
-        note="first-order band: $(grep -c -v -e '^param' "$nom/uncertainty.tsv") quantities in uncertainty.tsv; "
-        note+=$(grep '^left out' "$tmp/band-$fam.txt" || echo "none left out")
-        [ -f "$out/sens/$fam.tsv" ] || note+=" (make geometry writes the --sens files for the fd quantities)"
-    fi
+    note+="${note:+; }$fam: first-order band: $(grep -c -v -e '^param' "$nom/uncertainty.tsv") quantities in uncertainty.tsv, "
+    note+=$(grep '^left out' "$tmp/band-$fam.txt" || echo "none left out")
 done
+[ -d "$out/sens" ] || note+=" (make geometry writes the --sens files for the fd quantities)"
 
 # 3. uq.tsv and tornado.tsv
 printf 'family\tarc_deg\treading\tn\tnominal\tmean\tsd\tq05\tq95\tfo_sd\tfo_lo90\tfo_hi90\tsd_ratio\n' > "$tmp/uq.tsv"
@@ -111,7 +113,8 @@ done
 last=${families[-1]}
 lastarc=$(awk -F'\t' -v F="$last" '$1 == F { a = $2 } END { print a }' "$tmp/uq.tsv")
 {
-    echo "# The uncertainty study: $(wc -l < "$out/samples.tsv" | awk '{ print $1 - 1 }') sampled eyes, families ${families[*]}"
+    ndone=$(tail -n +2 "$tmp/eyes.tsv" | cut -f1 | sort -u | wc -l)
+    echo "# The uncertainty study: $ndone of $(wc -l < "$out/samples.tsv" | awk '{ print $1 - 1 }') sampled eyes, families ${families[*]}"
     echo
     echo "Inputs (deviations from the base scene, Latin hypercube; params.tsv):"
     echo
