@@ -85,6 +85,11 @@ read -r sia res ssd rsd lo hi < <(band --k-steep 44.5 --k-flat 43 --axis 90 --ag
 awk -v s="$sia" -v r="$res" -v a="$ssd" -v b="$rsd" -v l="$lo" -v h="$hi" \
     'BEGIN { exit !(s == 1.2 && r == 0.3 && a == 0.12 && b == 0.12 && l == 0.10 && h == 0.50) }' &&
     ok "band at a simulated arc: the case's sd 0.12 D, residual 0.30 D, 90% $lo-$hi D" || no "band at a simulated arc: $sia $res $ssd $rsd $lo $hi"
+# The whole 1.5 D: a pair of 75 deg (sd 0.15), residual 0.00: its direction is round-off, the
+# residual moves through 0 along the pre-op (here along the SIA): sd 0.15, 90% 0-0.25.
+read -r sia res ssd rsd lo hi < <(band $K --age 60 "$tmp/sd.tsv")
+[ "$res $ssd $rsd $lo $hi" = "0.00 0.15 0.15 0.00 0.25" ] && ok "a vanishing residual: its sd the SIA's ($rsd D)" ||
+    no "vanishing residual: $res $ssd $rsd $lo $hi"
 read -r sia res ssd rsd lo hi < <(band $K --age 60 --target 1.2 "$tmp/sd0.tsv")
 [ "$ssd $rsd $lo $hi" = "0.00 0.00 0.30 0.30" ] && ok "zero sd in the table: zero band" || no "zero sd: $ssd $rsd $lo $hi"
 read -r sia res ssd rsd lo hi < <(band $K --age 60 "$tmp/t.tsv")

@@ -284,12 +284,13 @@ static void band(const kt_nomo *t, const kt_nomo_query *q, int n, double depth, 
     if (!(sd >= 0)) return; /* NAN: the table (or a case used) has no sd */
     a->sia_sd = sd;
     /* d|pre + S| / dS along the SIA's double-angle direction: the cosine between the residual's
-     * vector and the SIA's; at a vanishing residual the SIA's sd itself. */
+     * vector and the SIA's; below KT_NOMO_RES_DIR the residual's direction is round-off, and the
+     * residual moves through zero along the pre-operative astigmatism: its cosine with the SIA. */
     double p[2], s[2];
     kt_astig_xy((kt_astig){cyl, axis}, p);
     kt_astig_xy((kt_astig){1, sia_axis}, s);
-    double rx = p[0] + a->sia * s[0], ry = p[1] + a->sia * s[1], r = hypot(rx, ry);
-    double d = r > 1e-9 ? fabs(rx * s[0] + ry * s[1]) / r : 1;
+    double rx = p[0] + a->sia * s[0], ry = p[1] + a->sia * s[1], r = hypot(rx, ry), pn = hypot(p[0], p[1]);
+    double d = r > KT_NOMO_RES_DIR ? fabs(rx * s[0] + ry * s[1]) / r : pn > 0 ? fabs(p[0] * s[0] + p[1] * s[1]) / pn : 1;
     a->residual_sd = d * sd;
     a->residual_lo90 = fmax(0, a->residual - KT_NOMO_Z90 * a->residual_sd);
     a->residual_hi90 = a->residual + KT_NOMO_Z90 * a->residual_sd;

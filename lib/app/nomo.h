@@ -44,6 +44,9 @@ typedef struct kt_nomo {
 /* The two-sided 90% quantile of the standard normal distribution (the band's interval, as
  * curvature's: optics/curv_band.h). */
 #define KT_NOMO_Z90 1.6448536269514722
+/* A residual below this (D; the answer prints 0.01 D) has no direction of its own for the band:
+ * its derivative is then taken along the pre-operative astigmatism (lri-nomogram(1), BAND). */
+#define KT_NOMO_RES_DIR 0.005
 
 /* Limits of a table: bytes in one line (its end included), cases. */
 #define KT_NOMO_MAX_LINE 65536
@@ -85,7 +88,7 @@ typedef struct kt_nomo_answer {
     /* The band (lri-nomogram(1), BAND): the SIA's first-order sd at the answer's arc,
      * interpolated like the SIA (linear in arc from 0 at arc 0, then in age); the residual's
      * sd, |d residual / d SIA| sia_sd (the residual's double-angle vector against the SIA's;
-     * the SIA's sd itself when the residual vanishes), and its 90% interval residual +- 1.645
+     * the pre-op's against the SIA's below KT_NOMO_RES_DIR), and its 90% interval residual +- 1.645
      * sd, the lower end clipped at 0. NAN when the table has no sia_sd_D. */
     double sia_sd, residual_sd, residual_lo90, residual_hi90;
 } kt_nomo_answer;
