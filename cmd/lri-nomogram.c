@@ -32,10 +32,18 @@ static int bad(const char *opt, const char *arg, const char *what)
     return KT_EINPUT;
 }
 
+/* A band's number, "NaN" when the table has none. */
+static void print_sd(double v)
+{
+    if (isnan(v)) printf("\tNaN");
+    else printf("\t%.2f", v);
+}
+
 static void print_answer(const kt_nomo_answer *a)
 {
-    printf("%d\t%.1f\t%.2f\t%.2f\t%.0f\t%g-%g\t%g-%g\t%s\n", a->incisions, a->arc, a->sia,
-           a->residual, a->residual_axis, a->arc_lo, a->arc_hi, a->age_lo, a->age_hi,
+    printf("%d\t%.1f\t%.2f\t%.2f\t%.0f", a->incisions, a->arc, a->sia, a->residual, a->residual_axis);
+    print_sd(a->sia_sd), print_sd(a->residual_sd), print_sd(a->residual_lo90), print_sd(a->residual_hi90);
+    printf("\t%g-%g\t%g-%g\t%s\n", a->arc_lo, a->arc_hi, a->age_lo, a->age_hi,
            a->reached ? (a->arc_lo == a->arc_hi ? "simulated arc" : "interpolated")
                       : "under-corrects: the longest simulated arc");
 }
@@ -180,8 +188,14 @@ static int tool_main(int argc, char **argv)
     printf("# pre-op %.2f D @ %.0f deg, age %g y, target %.2f D; incisions centred on %.0f deg, "
            "depth %g, diameter %g mm\n",
            pre, pre_axis, q.age, q.target, pre_axis, any->depth, any->diameter);
-    printf("incisions\tarc_deg\tsia_D\tresidual_D\tresidual_axis_deg\tbetween_arcs_deg"
-           "\tages_y\tnote\n");
+    if (isnan(any->sia_sd))
+        printf("# no band: the table has no sia_sd_D column (a table made before issue 21; remake it with "
+               "make -C plans/studies/nomogram)\n");
+    else
+        printf("# band: the SIA's first-order sd of the simulated cases (tissue quantities only: "
+               "lri-nomogram(1), BAND) and the residual's 90%% interval\n");
+    printf("incisions\tarc_deg\tsia_D\tresidual_D\tresidual_axis_deg\tsia_sd_D\tresidual_sd_D"
+           "\tresidual_lo90_D\tresidual_hi90_D\tbetween_arcs_deg\tages_y\tnote\n");
     for (int i = 0; i < 2; i++)
         if (ans[i].incisions) print_answer(&ans[i]);
     return kt_stdout_done("lri-nomogram");

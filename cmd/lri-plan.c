@@ -13,6 +13,8 @@ static const char usage[] =
     "      --base SCENE    the base eye scene (default: the repository's plans/eye.yaml)\n"
     "      --fast          a coarse mesh without the incision floor's refinement\n"
     "      --step DEG      arc opened per step, deg (default 5)\n"
+    "      --no-uncertainty  no first-order band on the predicted residual (augsolve without\n"
+    "                      --uncertainty: the runs cost up to a quarter less)\n"
     "  -q, --quiet         no progress on stderr\n"
     "  -h, --help          this help\n"
     "      --version       the version\n"
@@ -20,11 +22,12 @@ static const char usage[] =
 
 static int tool_main(int argc, char **argv)
 {
-    enum { O_BASE = 256, O_FAST, O_STEP, O_VERSION };
+    enum { O_BASE = 256, O_FAST, O_STEP, O_VERSION, O_NOBAND };
     static const struct option lo[] = {{"output", required_argument, 0, 'o'}, {"base", required_argument, 0, O_BASE},
                                        {"fast", no_argument, 0, O_FAST},      {"step", required_argument, 0, O_STEP},
                                        {"quiet", no_argument, 0, 'q'},        {"help", no_argument, 0, 'h'},
-                                       {"version", no_argument, 0, O_VERSION}, {0, 0, 0, 0}};
+                                       {"version", no_argument, 0, O_VERSION}, {"no-uncertainty", no_argument, 0, O_NOBAND},
+                                       {0, 0, 0, 0}};
     kt_lriplan_opts o;
     kt_lriplan_opts_default(&o);
     int c;
@@ -33,6 +36,7 @@ static int tool_main(int argc, char **argv)
         case 'o': o.outdir = optarg; break;
         case O_BASE: o.base = optarg; break;
         case O_FAST: o.fast = 1; break;
+        case O_NOBAND: o.no_band = 1; break;
         case O_STEP:
             if (kt_parse_number(optarg, &o.step) || !(o.step > 0 && o.step <= 90)) {
                 fprintf(stderr, "lri-plan: --step %s: expected an angle in (0, 90] deg\n", optarg);

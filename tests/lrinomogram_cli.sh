@@ -4,7 +4,9 @@
 # and a cylinder outside what LRIs treat (0.5-3 D) answer with one warning line on stderr; the
 # main incision's SIA vector shifts the answer exactly as the equivalent keratometry does
 # (1.5 D @ 90 with 0.5 D @ 0 is 1.0 D @ 90); without a table it reads the shipped default
-# (share/nomogram/nomogram.tsv) or says in one line how to make one.
+# (share/nomogram/nomogram.tsv) or says in one line how to make one. The band: a table's
+# sia_sd_D (curvature's sd) carried to the answer, the residual's sd and 90% interval; zero sd,
+# zero band; a table without the column, none.
 set -uo pipefail
 B=$(cd "$1" && pwd)
 cd "$(dirname "$0")/.."
@@ -61,12 +63,59 @@ expect "two tables" "expected one NOMOGRAM.tsv" $K --age 60 "$tmp/t.tsv" "$tmp/t
 # An oblique SIA turns the incisions' axis: 1.5 @ 90 + 1.5 @ 45 = 2.12 @ 67.5 (printed 68).
 "$N" $K --age 60 --sia 1.5 --sia-axis 45 "$tmp/t.tsv" 2>/dev/null | grep -q "^# pre-op 2.12 D @ 68 deg" &&
     ok "oblique SIA: centred on 68 deg" || no "oblique SIA: $("$N" $K --age 60 --sia 1.5 --sia-axis 45 "$tmp/t.tsv" 2>&1 | head -2)"
+# The band (lri-nomogram(1), BAND). A table with sia_sd_D = 0.1 x SIA (0.001 x arc for one
+# incision): an answer at a simulated arc carries that case's sd (the table's, i.e. curvature's
+# sia_D_sd of the study's run), one between arcs the linear interpolation; the residual lies
+# along the SIA (with the rule, SIA at 0 deg), so its sd is the SIA's; 90%: residual +- 1.645 sd,
+# clipped at 0. A table of zero sd gives a zero band; the table without the column (above) NaN.
+awk -F'\t' -v OFS='\t' 'NR == 1 { print $0, "sia_sd_D"; next } { print $0, 0.1 * $9 }' "$tmp/t.tsv" > "$tmp/sd.tsv"
+awk -F'\t' -v OFS='\t' 'NR == 1 { print $0, "sia_sd_D"; next } { print $0, 0 }' "$tmp/t.tsv" > "$tmp/sd0.tsv"
+band() { # ARGS...: the pair's row's columns 3-9 (sia, residual, axis, sia_sd, residual_sd, lo, hi)
+    "$N" "$@" 2>/dev/null | awk -F'\t' '$1 == 2 { print $3, $4, $6, $7, $8, $9 }'
+}
+# --target 1.3 on 1.5 D at 60 y (between the ages 50 and 70: the same table): a pair of 65 deg,
+# between the simulated 60 (SIA 1.2, sd 0.12) and 75 (1.5, 0.15): sd 0.13 interpolated; the
+# residual 0.2 D lies along the SIA, so its sd is the SIA's; 90% 0.2 +- 0.214, clipped: 0-0.41.
+read -r sia res ssd rsd lo hi < <(band --k-steep 44.5 --k-flat 43 --axis 90 --age 60 --target 1.3 "$tmp/sd.tsv")
+awk -v a="$ssd" -v b="$rsd" -v l="$lo" -v h="$hi" 'BEGIN { exit !(a == 0.13 && b == 0.13 && l == 0 && h == 0.41) }' &&
+    ok "band: sia sd 0.13 D interpolated between arcs, residual sd = the SIA's, 90% $lo-$hi D" || no "band: $sia $res $ssd $rsd $lo $hi"
+# --target 1.2 on 1.5 D: SIA 1.2 (a simulated arc: 30 deg of the pair, 0.6 x 2), sd 0.12 (the
+# case's own), residual 0.3 D along the SIA: sd 0.12, 90% 0.3 +- 0.197 = 0.10-0.50.
+read -r sia res ssd rsd lo hi < <(band --k-steep 44.5 --k-flat 43 --axis 90 --age 60 --target 1.2 "$tmp/sd.tsv")
+awk -v s="$sia" -v r="$res" -v a="$ssd" -v b="$rsd" -v l="$lo" -v h="$hi" \
+    'BEGIN { exit !(s == 1.2 && r == 0.3 && a == 0.12 && b == 0.12 && l == 0.10 && h == 0.50) }' &&
+    ok "band at a simulated arc: the case's sd 0.12 D, residual 0.30 D, 90% $lo-$hi D" || no "band at a simulated arc: $sia $res $ssd $rsd $lo $hi"
+# The whole 1.5 D: a pair of 75 deg (sd 0.15), residual 0.00: its direction is round-off, the
+# residual moves through 0 along the pre-op (here along the SIA): sd 0.15, 90% 0-0.25.
+read -r sia res ssd rsd lo hi < <(band $K --age 60 "$tmp/sd.tsv")
+[ "$res $ssd $rsd $lo $hi" = "0.00 0.15 0.15 0.00 0.25" ] && ok "a vanishing residual: its sd the SIA's ($rsd D)" ||
+    no "vanishing residual: $res $ssd $rsd $lo $hi"
+read -r sia res ssd rsd lo hi < <(band $K --age 60 --target 1.2 "$tmp/sd0.tsv")
+[ "$ssd $rsd $lo $hi" = "0.00 0.00 0.30 0.30" ] && ok "zero sd in the table: zero band" || no "zero sd: $ssd $rsd $lo $hi"
+read -r sia res ssd rsd lo hi < <(band $K --age 60 "$tmp/t.tsv")
+[ "$ssd $rsd $lo $hi" = "NaN NaN NaN NaN" ] && "$N" $K --age 60 "$tmp/t.tsv" 2>/dev/null | grep -q "^# no band" &&
+    ok "a table without sia_sd_D: no band (NaN), said in a comment" || no "old table: $ssd $rsd $lo $hi"
+printf 'eye\tage_y\tcyl_pre_D\taxis_deg\tincisions\tarc_deg\tdepth\tdiameter_mm\tsia_D\tsia_axis_deg\tsia_sd_D\ne\t60\t1.5\t90\t2\t30\t0.9\t10.5\t1\t0\t-1\n' > "$tmp/bad.tsv"
+expect "negative sia_sd_D" "bad.tsv:2:" $K --age 60 "$tmp/bad.tsv"
 # The default table.
 def="$(cd "$(dirname "$0")/.." && pwd)/share/nomogram/nomogram.tsv"
 rc=0
 "$N" $K --age 66 > "$tmp/out" 2> "$tmp/err" || rc=$?
 if [ -s "$def" ]; then
     [ $rc -eq 0 ] && grep -q "^incisions" "$tmp/out" && ok "answers out of the box from $def" || no "default table: exit $rc, $(cat "$tmp/err")"
+    # the shipped table has the band (remade with augsolve --uncertainty): a pair's answer has a
+    # positive SIA sd, and at a simulated arc it is the table's (curvature's) sia_sd_D
+    if head -n 1 "$def" | tr '\t' '\n' | grep -qx sia_sd_D; then
+        read -r tsia tsd < <(awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+            $c["incisions"] == 2 && $c["arc_deg"] == 45 { print $c["sia_D"], $c["sia_sd_D"]; exit }' "$def")
+        read -r sia res ssd rsd lo hi < <(band $K --age 60 --target "$tsia")
+        awk -v a="$ssd" -v t="$tsd" 'BEGIN { exit !(a > 0 && a - t < 0.006 && t - a < 0.006) }' &&
+            ok "the shipped table's band: sia sd $ssd D at 2 x 45 deg = its sia_sd_D $tsd" || no "shipped band: $ssd vs $tsd"
+    else # a table shipped before issue 21's band: read as before, with no band
+        "$N" $K --age 66 2>/dev/null | grep -q "^# no band" &&
+            ok "the shipped table has no sia_sd_D yet (remake: make -C plans/studies/nomogram quick): answered without a band" ||
+            no "the shipped table without sia_sd_D: no '# no band' comment"
+    fi
 else
     [ $rc -eq 2 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q "make -C plans/studies/nomogram quick" "$tmp/err" &&
         ok "no default table: one line says how to make it" || no "no default table: exit $rc, $(cat "$tmp/err")"

@@ -12,6 +12,11 @@
 #    curve starts after the tunnel, the pre-op is the intact eye, and the scene meshes the
 #    tunnel's site finer (eye.mesh_size.site).
 # 3. Bad tunnels in a plan exit 2 at file:line:col before any cut, with nothing written.
+# 4. The band on the predicted residual (lri-plan(1), BAND), lri-plan --fast on a right eye with
+#    the rule, no main incision, single arcs to 15 deg: the residual lies along the SIA, so its
+#    sd equals curvature's own sia_D_sd of the same run and step (a second reader: the run's
+#    curvature.tsv), the 90% interval is residual +- 1.645 sd; with a base scene whose
+#    uncertainty section sets every sd to 0 the band is zero (lo = hi = the residual).
 set -uo pipefail
 B=$(cd "$1" && pwd)
 cd "$(dirname "$0")/.."
@@ -136,3 +141,48 @@ for c in "length: 0.3 mm|4:48: tunnels[0].length: expected a tunnel that reaches
     fi
 done
 echo "lriplan_main (bad tunnels): $n passed, 0 failed"
+
+# 4. The band.
+cat > "$T/od.yaml" <<'EOF'
+name: band-od
+eye: OD
+age: 70
+cornea:
+  keratometry: {k_steep: 44.50 D, k_flat: 43.50 D, steep_axis: 90 deg}
+constraints: {incisions: single, max_arc: 15 deg}
+EOF
+{ cat plans/eye.yaml; printf 'uncertainty:\n'
+  for q in E_inplane G_transverse iop limbal_density thickness depth age_slope; do printf '  %s: {sd: 0}\n' "$q"; done
+} > "$T/eye0.yaml"
+"$B/lri-plan" -q --fast "$T/od.yaml" -o "$T/band" > "$T/band.txt" 2> "$T/err" || fail "lri-plan (band): $(cat "$T/err")"
+"$B/lri-plan" -q --fast --base "$T/eye0.yaml" "$T/od.yaml" -o "$T/band0" > "$T/band0.txt" 2> "$T/err" ||
+    fail "lri-plan (zero sd): $(cat "$T/err")"
+grep "band" "$T/band.txt"
+"$py" - "$T" <<'PY' || exit 1
+import json, math, sys
+T = sys.argv[1]
+fails = []
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond: fails.append(what)
+j = json.load(open(f"{T}/band/plan.json"))
+b, p = j["band"], j["plan"]
+k = round(p["arc_deg"] / 5)
+rows = [l.rstrip("\n").split("\t") for l in open(f"{T}/band/run-{p['incisions']}/curvature.tsv")]
+h = rows[0]
+r = rows[1 + k]
+sd_c = float(r[h.index("sia_D_sd")])
+sd_b, res = b["predicted_residual"]["sd_D"], p["predicted_residual_D"]
+check(k > 0 and sd_c > 0, f"the chosen step {k} ({p['arc_deg']} deg) has curvature's SIA sd {sd_c:.4f} D")
+check(abs(sd_b - sd_c) <= 2e-4 + 1e-3 * sd_c, f"residual sd {sd_b:.4f} D = curvature's sia_D_sd {sd_c:.4f} D (the residual along the SIA)")
+lo, hi = b["predicted_residual"]["lo90_D"], b["predicted_residual"]["hi90_D"]
+check(abs(lo - max(0, res - 1.6448536 * sd_b)) < 2e-3 and abs(hi - (res + 1.6448536 * sd_b)) < 2e-3,
+      f"90%: {lo:.3f}-{hi:.3f} D about {res:.3f} D")
+check("thickness" in b["left_out"] and "depth" in b["left_out"], f"left out: {b['left_out']}")
+z = json.load(open(f"{T}/band0/plan.json"))["band"]
+zr = z["predicted_residual"]
+check(zr["sd_D"] == 0 and abs(zr["lo90_D"] - zr["hi90_D"]) < 1e-9 and z["post_op_total"]["sd_D"] == 0 and z["left_out"] == "",
+      f"every sd 0: zero band ({zr})")
+print(f"lriplan_main (band): {5 - len(fails)} passed, {len(fails)} failed")
+sys.exit(1 if fails else 0)
+PY

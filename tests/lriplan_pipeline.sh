@@ -6,7 +6,11 @@
 # double-angle sum, recomputed here, of the run's simulated total corneal astigmatism
 # (run-*/curvature.tsv), the measured posterior toricity and the surgeon's SIA; the answer is
 # the least of them; the arcs lower the astigmatism. Round trip: the chosen arc cut alone by
-# hand (cutplan | augsolve | curvature) gives the predicted residual within 0.02 D.
+# hand (cutplan | augsolve | curvature) gives the predicted residual within 0.02 D. The band
+# (lri-plan(1), BAND), read again from the chosen run's derivatives.tsv: the projection of the
+# SIA vector's derivatives on the SIA itself gives curvature's own sia_D_sd of that step (the
+# reader agrees with curvature), and on the predicted residual (here oblique to the SIA: the
+# surgeon's vector and the posterior) it gives plan.json's residual sd and 90% interval.
 set -uo pipefail
 B=$(cd "$1" && pwd)
 cd "$(dirname "$0")/.."
@@ -81,6 +85,31 @@ with open(f"{out}/roundtrip.yaml", "w") as f:
             f"progression: {{degrees_per_step: {p['arc_deg']} deg}}\n")
 with open(f"{out}/expect", "w") as f:
     f.write(f"{p['predicted_residual_D']}\n")
+# The band, a second reader.
+b = d["band"]
+fam = p["incisions"]
+ks = [i for i, q in enumerate(next(c for c in d["candidates"] if c["incisions"] == fam)["curve"]) if abs(q["arc_deg"] - p["arc_deg"]) < 1e-9]
+k = ks[0] if ks else -1
+der = [l.rstrip("\n").split("\t") for l in open(f"{out}/run-{fam}/derivatives.tsv")]
+dh = der[0]
+dq = [(float(r[dh.index("sia_x_D")]), float(r[dh.index("sia_y_D")]), float(r[dh.index("sd")]))
+      for r in der[1:] if int(r[dh.index("step")]) == k and r[dh.index("used")] == "1"]
+def proj(v):
+    n = math.hypot(*v)
+    return math.sqrt(sum(((v[0] * x + v[1] * y) / n * s) ** 2 for x, y, s in dq))
+rows = [l.rstrip("\n").split("\t") for l in open(f"{out}/run-{fam}/curvature.tsv")]
+h, r = rows[0], rows[1 + k]
+sia_sd = float(r[h.index("sia_D_sd")])
+mine = proj(vec(float(r[h.index("sia_D")]), float(r[h.index("sia_axis_deg")])))
+check(k > 0 and len(dq) >= 4 and abs(mine - sia_sd) <= 2e-4 + 1e-3 * sia_sd,
+      f"band reader: the SIA's own projection {mine:.4f} D = curvature's sia_D_sd {sia_sd:.4f} D ({len(dq)} quantities, step {k})")
+res = vec(p["predicted_residual_D"], p["predicted_residual_axis_deg"])
+want = proj(res)
+got = b["predicted_residual"]["sd_D"]
+check(abs(got - want) <= 5e-4 + 2e-3 * want, f"residual sd {got:.4f} D = the projection on the residual {want:.4f} D (SIA sd {sia_sd:.4f} D)")
+rm = p["predicted_residual_D"]
+check(abs(b["predicted_residual"]["lo90_D"] - max(0, rm - 1.6448536 * got)) < 2e-3 and
+      abs(b["predicted_residual"]["hi90_D"] - (rm + 1.6448536 * got)) < 2e-3, "residual's 90% interval")
 print(f"lriplan_pipeline: {0 if fails else 1} passed, {len(fails)} failed")
 sys.exit(1 if fails else 0)
 PY

@@ -316,7 +316,9 @@ static void page(FILE *f, const kt_lri_answer *a, const kt_lriplan_opts *o, cons
     num(f, "plan.post_op_total_axis_deg", "%.1f", tpost.axis);
     fprintf(f, "&deg;</td></tr>\n</table>\n<p class=\"note\">Target: %s residual at most ", tkind);
     num(f, "target.residual_D", "%.2f", p->target_residual);
-    fputs(" D.</p></div>\n</div>\n", f);
+    fputs(" D.</p>", f);
+    kt_lri_band_html(a, f);
+    fputs("</div>\n</div>\n", f);
 
     fputs("<h2>2. SIA and residual against arc</h2>\n<div class=\"row\">\n<figure>", f);
     curve_svg(f, a, 0);

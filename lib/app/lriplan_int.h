@@ -16,6 +16,24 @@
 #define KT_LRIPLAN_SYMMETRIC 0.9
 #define KT_LRIPLAN_RATIO_MIN 0.2
 
+/* The band's data of a family's run (lriplan_band.c): augsolve --uncertainty's derivative
+ * quantities, their sd, and each step's derivative of the keratometric SIA's double-angle vector
+ * (curvature's derivatives.tsv: sia_x_D, sia_y_D). */
+#define KT_LRIPLAN_MAXQ 16
+typedef struct kt_lri_bdata {
+    int on;                           /* the run has derivatives.tsv */
+    int nq;
+    char q[KT_LRIPLAN_MAXQ][32];      /* the quantities with a derivative (used) */
+    double sd[KT_LRIPLAN_MAXQ];       /* their sd, in their unit */
+    double dsia[KT_LRIPLAN_MAXSTEP + 1][KT_LRIPLAN_MAXQ][2]; /* d(sia_x, sia_y)/dq, D per unit */
+    char left[256];                   /* quantities left out (fd, no derivative), ", "-separated */
+} kt_lri_bdata;
+
+/* A band: sd and 90% interval of a magnitude, D (NAN: no band). */
+typedef struct kt_lri_band {
+    double sd, lo, hi;
+} kt_lri_band;
+
 /* One family's run: the predicted astigmatism after each step (step 0: no arc). */
 typedef struct kt_lri_family {
     int paired;
@@ -30,6 +48,7 @@ typedef struct kt_lri_family {
     kt_astig kerato_intact, total_intact; /* simulated before any cut (the run's step 0; the same
                                        as step 0 above unless the main incision is simulated) */
     int best;                         /* step of the least predicted residual */
+    kt_lri_bdata band;                /* the first-order band's derivatives (lriplan_band.c) */
 } kt_lri_family;
 
 /* Everything the answer reports. */
@@ -91,6 +110,17 @@ void kt_lri_main_sia(kt_lri_answer *a);
 /* How many steps of a family's edits the tunnel took (a portion of the blade's advance that
  * splits no node merges into the next one, so it may be fewer than planned). */
 int kt_lri_main_count(const char *edits, int *n, kt_err *e);
+
+/* The first-order band (lriplan_band.c; lri-plan(1), BAND): read RUN/derivatives.tsv of a
+ * family's run into f->band (the first `skip` steps after step 0 are the main incision's); the
+ * band of the magnitude of an astigmatism v predicted at step k of f (v = pre-op + main
+ * incision + the arcs' simulated SIA, so dv/dq = dSIA/dq); plan.json's "band" member (written
+ * after "plan"), the summary's and plan.html's lines. */
+int kt_lri_band_read(const char *run, kt_lri_family *f, int skip, kt_err *e);
+void kt_lri_band_of(const kt_lri_family *f, int k, kt_astig v, kt_lri_band *b);
+void kt_lri_band_json(const kt_lri_answer *a, FILE *j);
+void kt_lri_band_summary(const kt_lri_answer *a, FILE *s);
+void kt_lri_band_html(const kt_lri_answer *a, FILE *f);
 
 /* Fill the answer's prediction per step and choose (lriplan_out.c). */
 void kt_lri_choose(kt_lri_answer *a);

@@ -162,6 +162,7 @@ int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const ch
     fprintf(j, "    \"post_op_keratometric_D\": %.3f, \"post_op_keratometric_axis_deg\": %.1f, \"post_op_total_D\": %.3f, "
                "\"post_op_total_axis_deg\": %.1f},\n",
             kpost.mag, kpost.axis, tpost.mag, tpost.axis);
+    kt_lri_band_json(a, j);
     if (a->halves_ok)
         fprintf(j, "  \"halves\": {\"k_at_axis_D\": %.3f, \"k_opposite_D\": %.3f, \"k_flat_D\": %.3f, \"astig_at_axis_D\": %.3f, "
                    "\"astig_opposite_D\": %.3f, \"steeper_half_deg\": %.1f, \"ratio\": %.4f, \"cells\": %d},\n",
@@ -253,6 +254,7 @@ void kt_lri_summary(const kt_lri_answer *a, const kt_lriplan_opts *o, FILE *s)
     fprintf(s, "  predicted %s residual %.2f D @ %.0f: %s the %.2f D target\n",
             p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric", f->pred[f->best].mag, f->pred[f->best].axis,
             f->pred[f->best].mag <= p->target_residual ? "reaches" : "does NOT reach", p->target_residual);
+    kt_lri_band_summary(a, s);
     fprintf(s, "  written: %s/plan.html, plan.json, report/report.html, scene.yaml, eye.msh, run-*/ (mesh %.0f s, solves %.0f s%s)\n", o->outdir,
             a->mesh_seconds, a->solve_seconds, o->fast ? ", --fast" : "");
 }

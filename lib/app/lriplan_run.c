@@ -215,6 +215,7 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene
     kt_aug_run_opts ao;
     kt_aug_run_opts_default(&ao);
     ao.mesh = mesh, ao.edits = edits, ao.run_dir = run, ao.binary = 1, ao.aug.quiet = o->quiet;
+    ao.uncertainty = !o->no_band; /* the band's derivatives (lriplan_band.c) */
     double t0 = kt_now();
     if (kt_aug_run(&ao, e)) return e->code;
     a->solve_seconds += kt_now() - t0;
@@ -229,6 +230,7 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene
     int skip = 0;
     if (a->main_steps && kt_lri_main_count(edits, &skip, e)) return e->code;
     if (read_table(tsv, f, o->step, skip, e)) return e->code;
+    if (!o->no_band && kt_lri_band_read(run, f, skip, e)) return e->code;
     a->nfam++;
     return KT_OK;
 }

@@ -13,6 +13,8 @@ typedef struct kt_lriplan_opts {
     const char *base;           /* base eye scene; NULL: the repository's plans/eye.yaml */
     double step;                /* arc added per step, deg (5) */
     int fast;                   /* coarse mesh without the floor refinement */
+    int no_band;                /* --no-uncertainty: no first-order band (augsolve without
+                                   --uncertainty; lri-plan(1), BAND) */
     int quiet;
 } kt_lriplan_opts;
 

@@ -32,11 +32,17 @@ static int split_tabs(char *line, char **f, int *colno, int max)
     return n;
 }
 
-static int read_header(char *line, int *idx, const char *path, kt_err *e)
+/* The optional column: the SIA's first-order sd (tables written before issue 21 have none). */
+#define C_SIASD_NAME "sia_sd_D"
+
+static int read_header(char *line, int *idx, int *idx_sd, const char *path, kt_err *e)
 {
     char *f[256];
     int colno[256];
     int nf = split_tabs(line, f, colno, 256);
+    *idx_sd = -1;
+    for (int i = 0; i < nf; i++)
+        if (strcmp(f[i], C_SIASD_NAME) == 0) *idx_sd = i;
     for (int c = 0; c < C_N; c++) {
         idx[c] = -1;
         for (int i = 0; i < nf; i++)
@@ -48,7 +54,7 @@ static int read_header(char *line, int *idx, const char *path, kt_err *e)
     return KT_OK;
 }
 
-static int parse_case(char *line, int lineno, const int *idx, kt_nomo_case *k, const char *path,
+static int parse_case(char *line, int lineno, const int *idx, int idx_sd, kt_nomo_case *k, const char *path,
                       kt_err *e)
 {
     char *f[256];
@@ -75,6 +81,14 @@ static int parse_case(char *line, int lineno, const int *idx, kt_nomo_case *k, c
                            colno[i], col_name[c]);
         }
     }
+    k->sia_sd = NAN;
+    if (idx_sd >= 0) {
+        if (idx_sd >= nf)
+            return kt_fail(e, KT_EINPUT, "%s:%d:%zu: expected column %s", path, lineno, strlen(line) + 1, C_SIASD_NAME);
+        if (kt_parse_double(f[idx_sd], &k->sia_sd) || !(isnan(k->sia_sd) || (k->sia_sd >= 0 && isfinite(k->sia_sd))))
+            return kt_fail(e, KT_EINPUT, "%s:%d:%d: expected a number >= 0 or NaN in column %s", path, lineno,
+                           colno[idx_sd], C_SIASD_NAME);
+    }
     if (!(k->arc > 0) || !(k->sia >= 0) || !(k->depth > 0) || !(k->diameter > 0))
         return kt_fail(e, KT_EINPUT, "%s:%d:1: expected arc, depth and diameter > 0 and SIA >= 0",
                        path, lineno);
@@ -94,13 +108,13 @@ int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e)
     char *line = NULL;
     size_t cap = 0;
     long len;
-    int idx[C_N], lineno = 0, rc = KT_OK, cap_c = 0;
+    int idx[C_N], idx_sd = -1, lineno = 0, rc = KT_OK, cap_c = 0;
     while ((len = kt_line_read(in, &line, &cap, KT_NOMO_MAX_LINE, e)) >= 0) {
         lineno++;
         while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = '\0';
         if (lineno == 1) {
             char *h = strncmp(line, "\xef\xbb\xbf", 3) == 0 ? line + 3 : line; /* UTF-8 BOM */
-            if ((rc = read_header(h, idx, path, e))) break;
+            if ((rc = read_header(h, idx, &idx_sd, path, e))) break;
             continue;
         }
         if (len == 0) continue;
@@ -116,7 +130,7 @@ int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e)
             t->c = p;
             cap_c = nc;
         }
-        if ((rc = parse_case(line, lineno, idx, &t->c[t->n], path, e))) break;
+        if ((rc = parse_case(line, lineno, idx, idx_sd, &t->c[t->n], path, e))) break;
         t->n++;
     }
     if (rc == KT_OK && len == -4) rc = e->code;
@@ -149,12 +163,14 @@ static int selected(const kt_nomo_case *k, int n, double depth, double diameter)
 }
 
 /* The SIA of eye's selected cases at arc, linear between simulated arcs, 0 at arc 0; NAN beyond
- * the longest. *near gets the simulated case nearest in arc. */
-static double sia_at(const kt_nomo *t, const char *eye, int n, double depth, double diameter,
-                     double arc, const kt_nomo_case **near)
+ * the longest. *near gets the simulated case nearest in arc; *sd (when not NULL) the SIA's sd
+ * interpolated the same way (NAN when a case used has none). */
+static double sia_at_sd(const kt_nomo *t, const char *eye, int n, double depth, double diameter,
+                        double arc, const kt_nomo_case **near, double *sd)
 {
     const kt_nomo_case *lo = NULL, *hi = NULL;
     *near = NULL;
+    if (sd) *sd = NAN;
     for (int i = 0; i < t->n; i++) {
         const kt_nomo_case *k = &t->c[i];
         if (strcmp(k->eye, eye) != 0 || !selected(k, n, depth, diameter)) continue;
@@ -163,9 +179,20 @@ static double sia_at(const kt_nomo *t, const char *eye, int n, double depth, dou
         if (!*near || fabs(k->arc - arc) < fabs((*near)->arc - arc)) *near = k;
     }
     if (!hi) return NAN;
-    double a0 = lo ? lo->arc : 0, s0 = lo ? lo->sia : 0;
-    if (hi->arc == a0) return hi->sia;
-    return s0 + (hi->sia - s0) * (arc - a0) / (hi->arc - a0);
+    double a0 = lo ? lo->arc : 0, s0 = lo ? lo->sia : 0, d0 = lo ? lo->sia_sd : 0;
+    if (hi->arc == a0) {
+        if (sd) *sd = hi->sia_sd;
+        return hi->sia;
+    }
+    double w = (arc - a0) / (hi->arc - a0);
+    if (sd) *sd = d0 + (hi->sia_sd - d0) * w;
+    return s0 + (hi->sia - s0) * w;
+}
+
+static double sia_at(const kt_nomo *t, const char *eye, int n, double depth, double diameter,
+                     double arc, const kt_nomo_case **near)
+{
+    return sia_at_sd(t, eye, n, depth, diameter, arc, near, NULL);
 }
 
 /* For each simulated age: the eye of that age whose cylinder is nearest cyl among the
@@ -242,6 +269,33 @@ void kt_nomo_ages(const kt_nomo *t, double *lo, double *hi)
     for (int i = 0; i < t->n; i++) *lo = fmin(*lo, t->c[i].age), *hi = fmax(*hi, t->c[i].age);
 }
 
+/* The answer's band (nomo.h): the SIA's sd at the arc, from both ages' eyes, and the residual's. */
+static void band(const kt_nomo *t, const kt_nomo_query *q, int n, double depth, double diameter,
+                 const kt_nomo_case *elo, const kt_nomo_case *ehi, double w, double cyl, double axis,
+                 double sia_axis, kt_nomo_answer *a)
+{
+    const kt_nomo_case *near;
+    double sd_lo, sd_hi;
+    (void)q;
+    a->sia_sd = a->residual_sd = a->residual_lo90 = a->residual_hi90 = NAN;
+    sia_at_sd(t, elo->eye, n, depth, diameter, a->arc, &near, &sd_lo);
+    sia_at_sd(t, ehi->eye, n, depth, diameter, a->arc, &near, &sd_hi);
+    double sd = (1 - w) * sd_lo + w * sd_hi;
+    if (!(sd >= 0)) return; /* NAN: the table (or a case used) has no sd */
+    a->sia_sd = sd;
+    /* d|pre + S| / dS along the SIA's double-angle direction: the cosine between the residual's
+     * vector and the SIA's; below KT_NOMO_RES_DIR the residual's direction is round-off, and the
+     * residual moves through zero along the pre-operative astigmatism: its cosine with the SIA. */
+    double p[2], s[2];
+    kt_astig_xy((kt_astig){cyl, axis}, p);
+    kt_astig_xy((kt_astig){1, sia_axis}, s);
+    double rx = p[0] + a->sia * s[0], ry = p[1] + a->sia * s[1], r = hypot(rx, ry), pn = hypot(p[0], p[1]);
+    double d = r > KT_NOMO_RES_DIR ? fabs(rx * s[0] + ry * s[1]) / r : pn > 0 ? fabs(p[0] * s[0] + p[1] * s[1]) / pn : 1;
+    a->residual_sd = d * sd;
+    a->residual_lo90 = fmax(0, a->residual - KT_NOMO_Z90 * a->residual_sd);
+    a->residual_hi90 = a->residual + KT_NOMO_Z90 * a->residual_sd;
+}
+
 static void answer_one(const kt_nomo *t, const kt_nomo_query *q, int n, double depth,
                        double diameter, kt_nomo_answer *a)
 {
@@ -279,6 +333,7 @@ static void answer_one(const kt_nomo *t, const kt_nomo_query *q, int n, double d
     sia_at(t, elo->eye, n, depth, diameter, a->arc, &near);
     double sia_axis = near ? axis + (near->sia_axis - near->axis) : axis + 90;
     astig_add(cyl, axis, a->sia, sia_axis, &a->residual, &a->residual_axis);
+    band(t, q, n, depth, diameter, elo, ehi, w, cyl, axis, sia_axis, a);
 }
 
 int kt_nomo_plan(const kt_nomo *t, const kt_nomo_query *q, kt_nomo_answer ans[2], kt_err *e)

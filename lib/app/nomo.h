@@ -19,6 +19,8 @@ typedef struct kt_nomo_case {
     double diameter;  /* mm */
     double sia;       /* surgically induced astigmatism, D */
     double sia_axis;  /* its axis, deg */
+    double sia_sd;    /* the SIA's first-order sd, D (column sia_sd_D: the study's runs with
+                         augsolve --uncertainty, curvature's sia_D_sd); NAN: the table has none */
 } kt_nomo_case;
 
 /* The table: every case of a nomogram.tsv. */
@@ -39,13 +41,22 @@ typedef struct kt_nomo {
 /* The table lri-nomogram reads when none is given: the quick nomogram study's (share/). */
 #define KT_NOMO_DEFAULT "nomogram/nomogram.tsv"
 
+/* The two-sided 90% quantile of the standard normal distribution (the band's interval, as
+ * curvature's: optics/curv_band.h). */
+#define KT_NOMO_Z90 1.6448536269514722
+/* A residual below this (D; the answer prints 0.01 D) has no direction of its own for the band:
+ * its derivative is then taken along the pre-operative astigmatism (lri-nomogram(1), BAND). */
+#define KT_NOMO_RES_DIR 0.005
+
 /* Limits of a table: bytes in one line (its end included), cases. */
 #define KT_NOMO_MAX_LINE 65536
 #define KT_NOMO_MAX_CASES 1000000
 
 /* Read a nomogram.tsv (tab-separated, a header naming at least eye, age_y, cyl_pre_D, axis_deg,
- * incisions, arc_deg, depth, diameter_mm, sia_D, sia_axis_deg). Bad input: KT_EINPUT with
- * "path:line:col: expected ...". A UTF-8 byte-order mark before the header is skipped. */
+ * incisions, arc_deg, depth, diameter_mm, sia_D, sia_axis_deg; optionally sia_sd_D, the SIA's
+ * first-order sd: a number >= 0 or NaN; a table without it reads as before, every sd NAN).
+ * Bad input: KT_EINPUT with "path:line:col: expected ...". A UTF-8 byte-order mark before the
+ * header is skipped. */
 int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e);
 void kt_nomo_free(kt_nomo *t);
 
@@ -74,6 +85,12 @@ typedef struct kt_nomo_answer {
                               to the table's range when outside it) */
     int reached;           /* 1 when some simulated arc induces the target */
     double depth, diameter;
+    /* The band (lri-nomogram(1), BAND): the SIA's first-order sd at the answer's arc,
+     * interpolated like the SIA (linear in arc from 0 at arc 0, then in age); the residual's
+     * sd, |d residual / d SIA| sia_sd (the residual's double-angle vector against the SIA's;
+     * the pre-op's against the SIA's below KT_NOMO_RES_DIR), and its 90% interval residual +- 1.645
+     * sd, the lower end clipped at 0. NAN when the table has no sia_sd_D. */
+    double sia_sd, residual_sd, residual_lo90, residual_hi90;
 } kt_nomo_answer;
 
 /* Answer q from t for one incision and for a pair: ans[0] one, ans[1] a pair. Returns KT_OK,

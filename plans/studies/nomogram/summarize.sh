@@ -3,7 +3,10 @@
 #   nomogram.tsv         one row per case (one arc of one run): the eye (age, stiffness, K,
 #                        cylinder), incisions, arc_deg, depth, diameter, and what curvature(1)
 #                        read at that step: sia_D, flattening_D, steepening_D, coupling_ratio,
-#                        dk_mean_D, the post-operative cylinder
+#                        dk_mean_D, the post-operative cylinder; then the first-order band of
+#                        the SIA and the cylinder (curvature's sia_D_sd, sia_D_lo90, sia_D_hi90,
+#                        cyl_D_sd: sia_sd_D, sia_lo90_D, sia_hi90_D, cyl_post_sd_D; NaN for a
+#                        run solved without augsolve --uncertainty)
 #   nomogram-table.tsv   the simulated nomogram in the shape of the clinical ones: cylinder band
 #   nomogram-table.md    x age -> arc per incision and number of incisions, with the SIA
 #   sia-vs-arc.png/.svg  SIA against arc per incision count, per depth and per age, beside the
@@ -24,7 +27,7 @@ trap 'rm -rf "$tmp"' EXIT
 {
     printf 'eye\tage_y\tstiffness\tk_steep_D\tk_flat_D\tcyl_pre_D\taxis_deg\tincisions\tarc_deg'
     printf '\tdepth\tdiameter_mm\tsia_D\tsia_axis_deg\tflattening_D\tsteepening_D\tcoupling_ratio'
-    printf '\tdk_mean_D\tcyl_post_D\tcyl_post_axis_deg\tstep\trun\n'
+    printf '\tdk_mean_D\tcyl_post_D\tcyl_post_axis_deg\tstep\trun\tsia_sd_D\tsia_lo90_D\tsia_hi90_D\tcyl_post_sd_D\n'
     for r in "${runs[@]}"; do
         awk -F'\t' -v OFS='\t' '
         FNR == 1 { for (i = 1; i <= NF; i++) col[FILENAME, $i] = i; next }
@@ -39,7 +42,9 @@ trap 'rm -rf "$tmp"' EXIT
           print eye, age, stf, ks, kf, sprintf("%.2f", ks - kf), ax, n, a, dep, dia,
                 $col[c, "sia_D"], $col[c, "sia_axis_deg"], $col[c, "flattening_D"],
                 $col[c, "steepening_D"], $col[c, "coupling_ratio"], $col[c, "dk_mean_D"],
-                $col[c, "cyl_D"], $col[c, "axis_steep_deg"], k, run }
+                $col[c, "cyl_D"], $col[c, "axis_steep_deg"], k, run,
+                opt(c, "sia_D_sd"), opt(c, "sia_D_lo90"), opt(c, "sia_D_hi90"), opt(c, "cyl_D_sd") }
+        function opt(c, name) { return (c, name) in col ? $col[c, name] : "NaN" }
         ' "$out/plans/$r.meta" "$out/runs/$r/curvature.tsv"
     done | sort -t$'\t' -k1,1 -k8,8n -k10,10gr -k11,11g -k9,9n
 } > "$tmp/nomogram.tsv"
@@ -175,10 +180,13 @@ rev=$(git -C "$here" rev-parse --short HEAD 2>/dev/null || echo unknown)
     echo
     echo "## Cases"
     echo
-    echo "| eye | age | incisions | depth | arc | SIA (D) | flattening | steepening | coupling | dK mean |"
-    echo "|---|---|---|---|---|---|---|---|---|---|"
-    awk -F'\t' 'NR > 1 { printf "| %s | %s | %s | %s | %s | %.2f | %.2f | %.2f | %.2f | %.2f |\n",
-        $1, $2, $8, $10, $9, $12, $14, $15, $16, $17 }' "$tmp/nomogram.tsv"
+    echo "| eye | age | incisions | depth | arc | SIA (D) | SIA sd (D) | SIA 90% (D) | flattening | steepening | coupling | dK mean |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+    awk -F'\t' 'NR > 1 { printf "| %s | %s | %s | %s | %s | %.2f | %.2f | %.2f-%.2f | %.2f | %.2f | %.2f | %.2f |\n",
+        $1, $2, $8, $10, $9, $12, $22, $23, $24, $14, $15, $16, $17 }' "$tmp/nomogram.tsv"
+    echo
+    echo "The SIA's sd is first order (augsolve --uncertainty, curvature(1) UNCERTAINTY): the scene's"
+    echo "derivative quantities only; the thickness and the depth (fd) are left out."
     echo
     echo "## Cost"
     echo

@@ -2,8 +2,11 @@
 # task.sh eye OUT EYE | task.sh run OUT RUN: one job of the nomogram study; make, GNU parallel
 # and Slurm all run the study's jobs through it (through make, which decides what is out of date).
 #   eye: mesh-prep OUT/scenes/EYE.yaml -> OUT/eyes/EYE.msh (and EYE.time.tsv)
-#   run: cutplan OUT/plans/RUN.yaml | augsolve | curvature -> OUT/runs/RUN/ (curvature.tsv,
-#        steps.tsv, the step VTKs unless KEEP_VTK=0, time.tsv)
+#   run: cutplan OUT/plans/RUN.yaml | augsolve --uncertainty | curvature -> OUT/runs/RUN/
+#        (curvature.tsv with its band columns, derivatives.tsv, uncertainty.tsv, steps.tsv, the
+#        step VTKs unless KEEP_VTK=0, time.tsv). The band (issue 21): the derivatives of the
+#        scene's derivative quantities (keratome-scene(5), UNCERTAINTY; the thickness and the
+#        depth, marked fd, are left out: they need their own meshes).
 # Everything is written under a temporary name and renamed when the job succeeded: a failed or
 # interrupted job leaves nothing that make would take as done, and a rerun starts it afresh.
 # BLAS threads are pinned (OPENBLAS_NUM_THREADS=1, OMP_NUM_THREADS=1) so that jobs running side by
@@ -49,7 +52,7 @@ run)
     t0=$(now)
     set +e
     "$B/cutplan" "$out/plans/$name.yaml" "$out/eyes/$eye.msh" -o - 2> "$part/cutplan.log" |
-        "$B/augsolve" "$out/eyes/$eye.msh" - -o "$part" ${AUGSOLVE_FLAGS:-} > "$part/augsolve.log" 2>&1
+        "$B/augsolve" "$out/eyes/$eye.msh" - -o "$part" --uncertainty ${AUGSOLVE_FLAGS:-} > "$part/augsolve.log" 2>&1
     st=("${PIPESTATUS[@]}")
     set -e
     if [ "${st[0]}" -ne 0 ] || [ "${st[1]}" -ne 0 ]; then

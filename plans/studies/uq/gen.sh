@@ -5,9 +5,10 @@
 #   OUT/scenes/NAME.yaml   one scene per eye: s000, s001, ... (the samples), nominal (the base
 #                          scene as it is, on the set's mesh), and for the geometry target
 #                          (make geometry) P_plus / P_minus for each quantity with a step H
-#   OUT/plans/NAME.yaml    the plan on that eye (its depth moved for the depth quantity)
+#   OUT/plans/NAME-FAMILY.yaml  each family's plan on that eye (its depth moved for the depth
+#                          quantity, its step and direction the spec's)
 #   OUT/params.tsv         the quantities: name, dist, sd, h, unit, base value
-#   OUT/study.mk           SAMPLES, GEOMETRY (the make targets' names)
+#   OUT/study.mk           SAMPLES, GEOMETRY (the make targets' names), FAMILIES, STEP_DEG
 # A file is replaced only when its content changes (make reruns only what changed), always
 # atomically. A malformed spec line: "SPEC:LINE: expected ...", exit 2, nothing written.
 set -euo pipefail
@@ -22,7 +23,10 @@ function die(msg) { printf "%s:%d: expected %s\n", F, NR, msg > "/dev/stderr"; e
 function num(s)   { return s ~ /^[0-9]+(\.[0-9]*)?$/ }
 { sub(/#.*/, "") }
 NF == 0 { next }
-$1 == "base" || $1 == "plan" { if (NF != 2) die($1 " FILE"); print; next }
+$1 == "base" { if (NF != 2) die("base FILE"); print; next }
+$1 == "plan" { if (NF != 3 || $2 !~ /^[a-z0-9_]+$/) die("plan FAMILY FILE (FAMILY: a-z, 0-9, _)")
+               if ($2 in fam) die("each family once (" $2 " again)"); fam[$2] = 1; print; next }
+$1 == "direction" { if (NF != 2 || $2 !~ /^(cw|ccw|centre-out|center-out)$/) die("direction cw|ccw|centre-out"); print; next }
 $1 == "step_deg" { if (NF != 2 || !num($2) || $2 <= 0 || int($2) != $2) die("step_deg DEG (whole degrees > 0)"); print; next }
 $1 == "seed" { if (NF != 2 || $2 !~ /^[0-9]+$/ || length($2) > 9) die("seed S (a whole number, at most 9 digits)"); print; next }
 $1 == "set" { if (NF != 4 || $2 !~ /^[a-z0-9_]+$/ || $3 !~ /^[1-9][0-9]*$/ || ($4 != "quick" && $4 != "default"))
@@ -37,13 +41,18 @@ $1 == "param" {
     if (($2 == "thickness" || $2 == "depth") && $5 == "-") die("a step H for " $2 " (it moves the mesh)")
     if ($2 in seen) die("each quantity once (" $2 " again)")
     seen[$2] = 1; print; next }
-{ die("base, plan, step_deg, set, seed or param") }
+{ die("base, plan, step_deg, direction, set, seed or param") }
 ' "$spec" > "$tmp/records"
 get() { awk -v k="$1" '$1 == k { print $2 }' "$tmp/records"; }
 abspath() { case $1 in /*) echo "$1" ;; *) echo "$specdir/$1" ;; esac; }
-base=$(abspath "$(get base)") plan=$(abspath "$(get plan)") step=$(get step_deg) seed=$(get seed)
+base=$(abspath "$(get base)") step=$(get step_deg) seed=$(get seed) dir=$(get direction)
 [ -f "$base" ] || { echo "$spec: base scene $base not found" >&2; exit 2; }
-[ -f "$plan" ] || { echo "$spec: plan $plan not found" >&2; exit 2; }
+families=() plans=()
+while read -r _ fam file; do
+    families+=("$fam") plans+=("$(abspath "$file")")
+    [ -f "${plans[-1]}" ] || { echo "$spec: plan $fam: ${plans[-1]} not found" >&2; exit 2; }
+done < <(awk '$1 == "plan"' "$tmp/records")
+[ ${#families[@]} -gt 0 ] || { echo "$spec: expected at least one plan FAMILY FILE line" >&2; exit 2; }
 [ -n "$step" ] && [ -n "$seed" ] || { echo "$spec: expected step_deg and seed lines" >&2; exit 2; }
 read -r n mesh < <(awk -v s="$set" '$1 == "set" && $2 == s { print $3, $4 }' "$tmp/records") ||
     { echo "$spec: no set $set (set NAME N MESH lines)" >&2; exit 2; }
@@ -71,7 +80,8 @@ bash "$here/lhs.sh" "$n" "$seed" "${args[@]}" > "$tmp/samples.tsv"
 mkdir -p "$tmp/scenes" "$tmp/plans"
 write_eye() { # NAME [PARAM DELTA]...
     local name=$1; shift
-    awk -v LD0="${BASEV[limbal_density]}" -v T="$tmp" -v NAME="$name" -v BASE="$base" -v PLAN="$plan" -v MESH="$mesh" -v STEP="$step" -v D="$*" '
+    awk -v LD0="${BASEV[limbal_density]}" -v T="$tmp" -v NAME="$name" -v BASE="$base" -v PLANS="${plans[*]}" \
+        -v FAMS="${families[*]}" -v MESH="$mesh" -v STEP="$step" -v DIR="$dir" -v D="$*" '
     function bump(line, key, unit, delta,    pre, v, rest) {
         if (!match(line, key ": *[0-9.]+" (unit == "" ? "" : " *" unit))) return line
         pre = substr(line, 1, RSTART - 1); v = substr(line, RSTART, RLENGTH); rest = substr(line, RSTART + RLENGTH)
@@ -113,16 +123,21 @@ write_eye() { # NAME [PARAM DELTA]...
             printf "gen.sh: %s: a field the study moves was not found (E_inplane %d, G_transverse %d, pressure %d, limbal_density %d, central_thickness %d, ring depth_fraction %d)\n",
                    BASE, hit["E_inplane"], hit["G_transverse"], hit["value"], hit["limbal_density"], hit["central_thickness"], hit["depth_fraction"] > "/dev/stderr"
             exit 1 }
-        f = T "/plans/" NAME ".yaml"; hit["depth_fraction"] = 0
-        printf "# plan of eye %s of the uncertainty study (written by gen.sh from %s)\n", NAME, PLAN > f
-        while ((getline line < PLAN) > 0) {
-            if (line ~ /^scene:/) line = "scene: ../scenes/" NAME ".yaml"
-            sub(/degrees_per_step: [0-9.]+ deg/, "degrees_per_step: " STEP " deg", line)
-            line = bump(line, "depth_fraction", "", frac - 0.9)
-            print line > f
+        np = split(PLANS, pl, " "); split(FAMS, fm, " ")
+        for (j = 1; j <= np; j++) {
+            PLAN = pl[j]; f = T "/plans/" NAME "-" fm[j] ".yaml"; hit["depth_fraction"] = 0; hit["dir"] = 0
+            printf "# plan %s of eye %s of the uncertainty study (written by gen.sh from %s)\n", fm[j], NAME, PLAN > f
+            while ((getline line < PLAN) > 0) {
+                if (line ~ /^scene:/) line = "scene: ../scenes/" NAME ".yaml"
+                sub(/degrees_per_step: [0-9.]+ deg/, "degrees_per_step: " STEP " deg", line)
+                if (DIR != "" && sub(/direction: [a-z-]+/, "direction: " DIR, line)) hit["dir"]++
+                line = bump(line, "depth_fraction", "", frac - 0.9)
+                print line > f
+            }
+            close(f)
+            if (hit["depth_fraction"] != 1) { printf "gen.sh: %s: no depth_fraction line\n", PLAN > "/dev/stderr"; exit 1 }
+            if (DIR != "" && hit["dir"] != 1) { printf "gen.sh: %s: no direction line to set to %s\n", PLAN, DIR > "/dev/stderr"; exit 1 }
         }
-        close(f)
-        if (hit["depth_fraction"] != 1) { printf "gen.sh: %s: no depth_fraction line\n", PLAN > "/dev/stderr"; exit 1 }
     }' || exit $?
 }
 names=()
@@ -152,6 +167,8 @@ done < "$tmp/params.tsv"
     echo "# written by gen.sh from the study spec (set $set, $n samples); do not edit"
     echo "SAMPLES := ${names[*]}"
     echo "GEOMETRY := ${geo[*]}"
+    echo "FAMILIES := ${families[*]}"
+    echo "STEP_DEG := $step"
 } > "$tmp/study.mk"
 
 install_if_changed() { # SRC DST

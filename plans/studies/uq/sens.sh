@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# sens.sh OUT NAME...: the geometry target's finite differences -> OUT/sens.tsv, curvature's
-# --sens file (curvature(1), UNCERTAINTY). NAME are the runs P_plus / P_minus of gen.sh: the
+# sens.sh OUT NAME...: the geometry target's finite differences -> OUT/sens/FAMILY.tsv for every
+# family of OUT/study.mk, curvature's --sens file for that family's run (curvature(1),
+# UNCERTAINTY), then OUT/sens/done (make's target). NAME are the runs P_plus / P_minus of gen.sh: the
 # nominal eye with quantity P moved by +H and -H (study.spec's H, in P's unit), each meshed and
 # cut on its own. For every step and every reading with a band:
 #   dR/dP = (R(P + H) - R(P - H)) / (2 H)
@@ -9,7 +10,11 @@
 # ratio at step 0) gets no row. Columns: param reading dR_dp step. Written whole, then renamed.
 set -euo pipefail
 out=$1; shift
-tmp=$out/.sens.tsv.$$
+read -r -a families < <(sed -n 's/^FAMILIES := //p' "$out/study.mk")
+mkdir -p "$out/sens"
+rm -f "$out/sens/done"
+for fam in "${families[@]}"; do
+tmp=$out/sens/.$fam.tsv.$$
 trap 'rm -f "$tmp"' EXIT
 printf 'param\treading\tdR_dp\tstep\n' > "$tmp"
 for name in "$@"; do
@@ -45,7 +50,9 @@ for name in "$@"; do
                 if (R[k] ~ /axis_deg$/) { while (d > 90) d -= 180; while (d <= -90) d += 180 }
                 printf "%s\t%s\t%.8g\t%d\n", P, R[k], d / (2 * H), s
             }
-    }' "$out/runs/${p}_plus/run/curvature.tsv" "$out/runs/${p}_minus/run/curvature.tsv" >> "$tmp"
+    }' "$out/runs/${p}_plus/run-$fam/curvature.tsv" "$out/runs/${p}_minus/run-$fam/curvature.tsv" >> "$tmp"
 done
-mv -f "$tmp" "$out/sens.tsv"
+mv -f "$tmp" "$out/sens/$fam.tsv"
 trap - EXIT
+done
+touch "$out/sens/done"
