@@ -34,8 +34,11 @@ static int bad(const char *opt, const char *arg, const char *what)
 
 static void print_answer(const kt_nomo_answer *a)
 {
-    printf("%d\t%.1f\t%.2f\t%.2f\t%.0f\t%g-%g\t%g-%g\t%s\n", a->incisions, a->arc, a->sia,
-           a->residual, a->residual_axis, a->arc_lo, a->arc_hi, a->age_lo, a->age_hi,
+    /* A residual that prints as 0.00 D has no axis: "none" (lri-nomogram(1)). */
+    char axis[16] = "none";
+    if (a->residual >= 0.005) snprintf(axis, sizeof axis, "%.0f", a->residual_axis);
+    printf("%d\t%.1f\t%.2f\t%.2f\t%s\t%g-%g\t%g-%g\t%s\n", a->incisions, a->arc, a->sia,
+           a->residual < 0.005 ? 0.0 : a->residual, axis, a->arc_lo, a->arc_hi, a->age_lo, a->age_hi,
            a->reached ? (a->arc_lo == a->arc_hi ? "simulated arc" : "interpolated")
                       : "under-corrects: the longest simulated arc");
 }
