@@ -32,7 +32,7 @@ shift $((OPTIND - 1))
 mkdir -p "$OUT" || exit 1
 PY=/usr/bin/python3
 TSV=$OUT/lriplan-bench.tsv
-printf 'patient\tsetting\trc\twall_s\tcpu_s\trss_MB\tload1\tnodes\tmesh_s\tsolve_s\tincisions\tarc_deg\tarc_opp_deg\tresidual_D\n' >"$TSV"
+printf 'patient\tsetting\trc\twall_s\tcpu_s\trss_MB\tload1\tprestress_s\tfactor_s\tfallback\tnodes\tmesh_s\tsolve_s\tincisions\tarc_deg\tarc_opp_deg\tresidual_D\n' >"$TSV"
 for p in $PATIENTS; do
     for s in $SETTINGS; do
         dir=$OUT/$p-$s
@@ -65,13 +65,21 @@ print("%s\t%s\t%s\t%s\t%s\t%s\t%s" % (g(j, "mesh_nodes"), g(j, "mesh_seconds"), 
       pl["incisions"], pl["arc_deg"], pl["arc_opposite_deg"], pl["predicted_residual_D"]))
 PYEOF
 )
-        printf '%s\t%s\t%d\t%s\t%s\t%d\t%s\t%s\n' "$p" "$s" "$rc" "$wall" "$cpu" $((rss / 1024)) "$load" "$fields" >>"$TSV"
+        # where the solving goes (augsolve's progress lines, summed over the families): the
+        # prestress of the measured geometry and the planned factorization, wall seconds
+        pre=$(sed -n 's/.*prestress of the measured geometry under its loads (\([0-9.]*\) s).*/\1/p' "$OUT/$p-$s.err" |
+            awk '{ t += $1 } END { printf "%.1f", t }')
+        fac=$(sed -n 's/.*augsolve: planned: .* in \([0-9.]*\) s (assembly.*/\1/p' "$OUT/$p-$s.err" |
+            awk '{ t += $1 } END { printf "%.1f", t }')
+        fb=$(grep -c "falls back\|fallback\|refactor" "$OUT/$p-$s.err")
+        printf '%s\t%s\t%d\t%s\t%s\t%d\t%s\t%s\t%s\t%s\t%s\n' "$p" "$s" "$rc" "$wall" "$cpu" $((rss / 1024)) "$load" \
+            "$pre" "$fac" "$fb" "$fields" >>"$TSV"
         [ $rc -ne 0 ] && echo "lriplan.sh: $p $s: exit $rc: $(tail -n 1 "$OUT/$p-$s.err")" >&2
     done
 done
 column -t -s$'\t' "$TSV"
 # The speed-accuracy trade: --fast against the default, per patient.
-awk -F'\t' 'NR > 1 { k = $1; if ($2 == "fast") { fa[k] = $12; fr[k] = $14; fw[k] = $4 } else if ($2 == "default") { da[k] = $12; dr[k] = $14; dw[k] = $4 } }
+awk -F'\t' 'NR > 1 { k = $1; if ($2 == "fast") { fa[k] = $15; fr[k] = $17; fw[k] = $4 } else if ($2 == "default") { da[k] = $15; dr[k] = $17; dw[k] = $4 } }
     END { print "\npatient\tarc_fast-default_deg\tresidual_fast-default_D\twall_default/fast";
           for (k in da) if (k in fa) printf "%s\t%+.1f\t%+.3f\t%.1f\n", k, fa[k] - da[k], fr[k] - dr[k], fw[k] > 0 ? dw[k] / fw[k] : 0 }' "$TSV" |
     column -t -s$'\t'
