@@ -235,7 +235,7 @@ static int init_post_toric(const kt_eye *eye, kt_eye_geom *g, kt_err *e)
     if (!(eye->r_post_steep > 0) || !(eye->r_post_flat > 0) || eye->r_post_steep == eye->r_post_flat) return KT_OK;
     g->cp_half = 0.5 * (1.0 / eye->r_post_steep - 1.0 / eye->r_post_flat);
     if (!(fabs(g->cp_half) < 0.25 / g->Rp))
-        return kt_fail(e, KT_EINPUT, "eye.posterior_radius_steep: %g mm against flat %g mm: expected a posterior "
+        return kt_fail(e, KT_EINPUT, "eye.posterior_radius_steep: %g mm against flat %g mm: expected posterior "
                        "curvatures (1/radius) differing by less than half their mean", eye->r_post_steep, eye->r_post_flat);
     for (int i = 0; i <= 64; i++) {
         double rho = g->taper_out * i / 64.0, c = 1.0 / g->Rp + fabs(g->cp_half);
