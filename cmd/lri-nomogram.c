@@ -41,7 +41,11 @@ static void print_sd(double v)
 
 static void print_answer(const kt_nomo_answer *a)
 {
-    printf("%d\t%.1f\t%.2f\t%.2f\t%.0f", a->incisions, a->arc, a->sia, a->residual, a->residual_axis);
+    /* A residual that prints as 0.00 D has no axis: "none" (lri-nomogram(1)). */
+    char axis[16] = "none";
+    if (a->residual >= 0.005) snprintf(axis, sizeof axis, "%.0f", a->residual_axis);
+    printf("%d\t%.1f\t%.2f\t%.2f\t%s", a->incisions, a->arc, a->sia,
+           a->residual < 0.005 ? 0.0 : a->residual, axis);
     print_sd(a->sia_sd), print_sd(a->residual_sd), print_sd(a->residual_lo90), print_sd(a->residual_hi90);
     printf("\t%g-%g\t%g-%g\t%s\n", a->arc_lo, a->arc_hi, a->age_lo, a->age_hi,
            a->reached ? (a->arc_lo == a->arc_hi ? "simulated arc" : "interpolated")

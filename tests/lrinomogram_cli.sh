@@ -60,6 +60,15 @@ expect "two tables" "expected one NOMOGRAM.tsv" $K --age 60 "$tmp/t.tsv" "$tmp/t
 "$N" --k-steep 44 --k-flat 43 --axis 90 --age 60 "$tmp/t.tsv" 2>/dev/null | grep -v '^#' > "$tmp/b"
 [ -s "$tmp/a" ] && cmp -s "$tmp/a" "$tmp/b" && ok "the SIA vector shifts the answer as 1.0 D @ 90 ($(sed -n 3p "$tmp/a" | cut -f1-4))" ||
     no "SIA vector: $(cat "$tmp/a") vs $(cat "$tmp/b")"
+# A residual that comes out zero has no axis: 1.0 D @ 90 corrected in full by a pair (SIA at
+# 0 deg, the table's; one arc under-corrects) prints 0.00 and "none" in residual_axis_deg; the
+# under-correcting single arc keeps its axis.
+awk -F'\t' '$1 == 1 && $5 != "none" && $4 != "0.00" { ok = 1 } END { exit !ok }' "$tmp/b" &&
+    ok "a residual left keeps its axis: $(awk -F'\t' '$1 == 1' "$tmp/b" | cut -f1-5 | tr '\t' ' ')" ||
+    no "the single arc's residual axis: $(cat "$tmp/b")"
+awk -F'\t' '$1 == 2' "$tmp/b" > "$tmp/rows"
+[ -s "$tmp/rows" ] && awk -F'\t' '$4 != "0.00" || $5 != "none" { bad = 1 } END { exit bad }' "$tmp/rows" &&
+    ok "a zero residual has no axis: $(head -n 1 "$tmp/rows" | cut -f1-5 | tr '\t' ' ')" || no "zero residual's axis: $(cat "$tmp/rows")"
 # An oblique SIA turns the incisions' axis: 1.5 @ 90 + 1.5 @ 45 = 2.12 @ 67.5 (printed 68).
 "$N" $K --age 60 --sia 1.5 --sia-axis 45 "$tmp/t.tsv" 2>/dev/null | grep -q "^# pre-op 2.12 D @ 68 deg" &&
     ok "oblique SIA: centred on 68 deg" || no "oblique SIA: $("$N" $K --age 60 --sia 1.5 --sia-axis 45 "$tmp/t.tsv" 2>&1 | head -2)"

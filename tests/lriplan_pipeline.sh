@@ -2,9 +2,10 @@
 # lriplan_pipeline.sh BUILD_DIR: lri-plan --fast on plans/patients/atr-os.yaml (a left eye,
 # against the rule, measured posterior, the surgeon's SIA vector). A second reader checks the
 # answer: the scene written carries the patient's values (axis, ordering centre, the age rule,
-# the posterior's mean radius, the blade depth); every candidate's predicted residual equals the
-# double-angle sum, recomputed here, of the run's simulated total corneal astigmatism
-# (run-*/curvature.tsv), the measured posterior toricity and the surgeon's SIA; the answer is
+# the measured posterior's radii and steep axis, the blade depth); every candidate's predicted
+# residual equals the double-angle sum, recomputed here, of the run's simulated total corneal
+# astigmatism (run-*/curvature.tsv: both mesh surfaces, the posterior's toricity in the mesh)
+# and the surgeon's SIA; the answer is
 # the least of them; the arcs lower the astigmatism. Round trip: the chosen arc cut alone by
 # hand (cutplan | augsolve | curvature) gives the predicted residual within 0.02 D. The band
 # (lri-plan(1), BAND), read again from the chosen run's derivatives.tsv: the projection of the
@@ -30,9 +31,9 @@ def check(cond, what):
     print(("ok   " if cond else "FAIL ") + what)
     if not cond: fails.append(what)
 def vec(m, a): return (m * math.cos(2 * math.radians(a)), m * math.sin(2 * math.radians(a)))
-# The patient (plans/patients/atr-os.yaml): posterior -6.25 / -5.90 D @ 92: 0.35 D of plus
-# cylinder at 2 deg in the total; the surgeon's SIA 0.35 D @ 90 deg.
-post, sia = vec(0.35, 2.0), vec(0.35, 90.0)
+# The patient (plans/patients/atr-os.yaml): posterior -6.25 / -5.90 D @ 92 (in the scene:
+# radii 40/6.25, 40/5.90 mm; the mesh carries it); the surgeon's SIA 0.35 D @ 90 deg.
+post, sia = (0.0, 0.0), vec(0.35, 90.0)
 scene = open(f"{out}/scene.yaml").read()
 def field(key):
     for line in scene.splitlines():
@@ -41,7 +42,12 @@ def field(key):
     return float("nan")
 check(abs(field("steep_axis") - 178) < 1e-9, "scene steep_axis 178 deg")
 check(abs(field("centre") - 178) < 1e-9, "ordering centred on the steep meridian")
-check(abs(field("posterior_radius") - 2 / (6.25 / 40 + 5.90 / 40)) < 1e-9, "posterior mean radius")
+check(abs(field("posterior_radius_steep") - 40 / 6.25) < 1e-9 and abs(field("posterior_radius_flat") - 40 / 5.90) < 1e-9,
+      "posterior radii 40/6.25, 40/5.90 mm")
+check(abs(field("posterior_steep_axis") - 92) < 1e-9, "posterior steep axis 92 deg")
+rows = [l.rstrip("\n").split("\t") for l in open(f"{out}/run-{d['candidates'][0]['incisions']}/curvature.tsv")]
+pc = float(rows[1][rows[0].index("post_cyl_D")])
+check(abs(pc - 0.35) < 0.06, f"curvature reads the measured 0.35 D posterior cylinder from the mesh ({pc:.3f} D)")
 check(abs(field("depth") - 0.58) < 1e-12, "blade depth 580 um")
 check(abs(field("white_to_white") - 11.9) < 1e-12, "white-to-white")
 e = [float(l.split("E_inplane: ")[1].split()[0]) for l in scene.splitlines() if l.strip().startswith("cornea:") and "E_inplane" in l]
@@ -128,7 +134,7 @@ d = sys.argv[1]
 rows = [l.rstrip("\n").split("\t") for l in open(f"{d}/rt/curvature.tsv")]
 h, last = rows[0], rows[-1]
 def vec(m, a): return (m * math.cos(2 * math.radians(a)), m * math.sin(2 * math.radians(a)))
-t, post, sia = vec(float(last[h.index("total_cyl_D")]), float(last[h.index("total_axis_deg")])), vec(0.35, 2.0), vec(0.35, 90.0)
+t, post, sia = vec(float(last[h.index("total_cyl_D")]), float(last[h.index("total_axis_deg")])), (0.0, 0.0), vec(0.35, 90.0)
 got = math.hypot(t[0] + post[0] + sia[0], t[1] + post[1] + sia[1])
 want = float(open(f"{d}/expect").read())
 ok = abs(got - want) <= 0.02

@@ -1,7 +1,7 @@
 #!/bin/bash
 # meshprep_axes.sh BUILD_DIR: the default eye (coarsened, incision floor kept at 100 um) meshed
-# with its steep axis at 0, 15, ..., 165 deg, and once with ordering.centre set apart from the
-# steep axis (150 deg on a 0 deg eye). Every meshing must succeed (axes above 90 deg once failed
+# with its steep axis (and its toric posterior's steep axis) at 0, 15, ..., 165 deg, and once
+# with ordering.centre set apart from the steep axis (150 deg on a 0 deg eye). Every meshing must succeed (axes above 90 deg once failed
 # in gmsh's parser: the floor field's expression held "x*-0.5"), and a second reader (meshio)
 # checks that the floor refinement follows the meridian: on the incision ring, the triangles
 # within 30 deg of the centre meridian (or its opposite) have a median shortest edge under 0.6x
@@ -14,7 +14,8 @@ trap 'rm -rf "$tmp"' EXIT
 fail=0
 printf 'leak:libgmsh.so\n' > "$tmp/lsan.supp"
 export LSAN_OPTIONS="suppressions=$tmp/lsan.supp:print_suppressions=0"
-bash tests/lib/coarse-eye.sh --floor 100 0.6 0.3 0.8 2.5 "$tmp/base.yaml" && grep -q "^  steep_axis: 90 deg" "$tmp/base.yaml" ||
+bash tests/lib/coarse-eye.sh --floor 100 0.6 0.3 0.8 2.5 "$tmp/base.yaml" && grep -q "^  steep_axis: 90 deg" "$tmp/base.yaml" &&
+    grep -q "^  posterior_steep_axis: 90 deg" "$tmp/base.yaml" ||
     { echo "FAILED: could not coarsen the eye"; exit 1; }
 
 cat > "$tmp/check.py" <<'EOF'
@@ -44,7 +45,9 @@ EOF
 
 mesh() { # mesh AXIS CENTRE: mesh the eye with that steep axis (and ordering centre, or "")
     local y="$tmp/eye-$1-$2.yaml"
-    sed -e "s/^  steep_axis: 90 deg/  steep_axis: $1 deg/" "$tmp/base.yaml" > "$y"
+    # the toric posterior (plans/eye.yaml's, steep at 90 deg) turns with the anterior
+    sed -e "s/^  steep_axis: 90 deg/  steep_axis: $1 deg/" \
+        -e "s/^  posterior_steep_axis: 90 deg/  posterior_steep_axis: $1 deg/" "$tmp/base.yaml" > "$y"
     [ -n "$2" ] && printf '  centre: %s deg\n' "$2" > "$tmp/centre" &&
         sed -i "/^ordering:/r $tmp/centre" "$y"
     if ! "$build/mesh-prep" -q "$y" -o "$tmp/eye.msh" --ordering natural > /dev/null 2> "$tmp/err"; then

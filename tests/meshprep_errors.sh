@@ -41,6 +41,26 @@ scene negative $'model: eye\neye:\n  peripheral_thickness: -0.6 mm\n'
 expect_fail "negative thickness" "negative.yaml:3:25: eye.peripheral_thickness: expected a length in \[0.05, 5\] mm" \
     "$tmp/negative.yaml" -o "$tmp/out/x.msh"
 
+# the toric posterior (keratome-scene(5)): one of the two forms, the pair together, steep at
+# most flat, radii and axis in range; each refused before any meshing
+scene postboth $'model: eye\neye:\n  posterior_radius: 6.7 mm\n  posterior_radius_steep: 6.5 mm\n  posterior_radius_flat: 6.9 mm\n'
+expect_fail "posterior radius and pair" "postboth.yaml:3:21: eye.posterior_radius: expected either posterior_radius or the steep/flat pair" \
+    "$tmp/postboth.yaml" -o "$tmp/out/x.msh"
+scene posthalf $'model: eye\neye:\n  posterior_radius_steep: 6.5 mm\n'
+expect_fail "posterior steep without flat" "posthalf.yaml:3:27: eye.posterior_radius_steep: expected posterior_radius_steep and posterior_radius_flat together" \
+    "$tmp/posthalf.yaml" -o "$tmp/out/x.msh"
+scene postorder $'model: eye\neye:\n  posterior_radius_steep: 6.9 mm\n  posterior_radius_flat: 6.5 mm\n'
+expect_fail "posterior steep flatter than flat" "postorder.yaml:3:27: eye.posterior_radius_steep: expected at most posterior_radius_flat" \
+    "$tmp/postorder.yaml" -o "$tmp/out/x.msh"
+scene postaxis $'model: eye\neye:\n  posterior_radius_steep: 6.5 mm\n  posterior_radius_flat: 6.9 mm\n  posterior_steep_axis: 200 deg\n'
+expect_fail "posterior axis out of range" "postaxis.yaml:5:25: eye.posterior_steep_axis: expected an angle in \[0, 180\]" \
+    "$tmp/postaxis.yaml" -o "$tmp/out/x.msh"
+scene postrange $'model: eye\neye:\n  posterior_radius_steep: 0.5 mm\n  posterior_radius_flat: 6.9 mm\n'
+expect_fail "posterior radius out of range" "postrange.yaml:3:27: eye.posterior_radius_steep: expected a length in \[1, 50\] mm" \
+    "$tmp/postrange.yaml" -o "$tmp/out/x.msh"
+scene postcyl $'model: eye\neye:\n  posterior_radius_steep: 5 mm\n  posterior_radius_flat: 10 mm\n'
+expect_fail "posterior cylinder too large" "eye.posterior_radius_steep: .*expected" "$tmp/postcyl.yaml" -o "$tmp/out/x.msh"
+
 scene oz $'model: eye\neye:\n  white_to_white: 11.7 mm\n  optical_zone: 12 mm\n'
 expect_fail "optical zone outside the cornea" "oz.yaml:4:17: eye.optical_zone: expected a diameter inside the clear cornea" \
     "$tmp/oz.yaml" -o "$tmp/out/x.msh"

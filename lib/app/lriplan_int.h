@@ -66,7 +66,6 @@ typedef struct kt_lri_answer {
     double t_zone;                    /* pachymetry at the zone used, mm */
     double blade;                     /* blade depth, mm */
     kt_astig pre_kerato, pre_total;   /* pre-operative (measured; total with the posterior) */
-    kt_astig post_vec;                /* the posterior toricity's contribution to the total */
     kt_astig main_vec;                /* the main incision's SIA added (0 when none / simulated) */
     int main_steps;                   /* the run's steps of the simulated main incision (0: none) */
     kt_astig main_sia_kerato, main_sia_total; /* its simulated SIA (lriplan_main.c) */

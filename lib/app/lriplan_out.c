@@ -35,12 +35,8 @@ static double wrap360(double d) { return fmod(fmod(d, 360) + 360, 360); }
 void kt_lri_choose(kt_lri_answer *a)
 {
     const kt_patient *p = &a->p;
-    /* The posterior surface: powers -40/R; the steep (more negative) meridian adds plus
-     * cylinder at 90 deg from it. The mesh's posterior is rotationally symmetric, so this is
-     * added to the simulated total (keratome-patient(5)). */
-    double ps = kt_patient_post_k(p->post.r_steep), pf = kt_patient_post_k(p->post.r_flat);
-    a->post_vec.mag = pf - ps;
-    a->post_vec.axis = fmod(p->post.axis + 90, 180);
+    /* The posterior's toricity is in the mesh (keratome-patient(5)): the simulated total
+     * corneal astigmatism (curvature's reading of both surfaces) carries it. */
     a->main_vec.mag = p->main_present && !p->main_simulate ? p->main_sia : 0;
     a->main_vec.axis = p->main_sia_axis;
     a->chosen = 0;
@@ -49,7 +45,7 @@ void kt_lri_choose(kt_lri_answer *a)
         kt_lri_family *f = &a->fam[i];
         f->best = 0;
         for (int k = 0; k <= f->nstep; k++) {
-            kt_astig sim = p->target_kind == KT_TARGET_TOTAL ? add(f->total[k], a->post_vec) : f->kerato[k];
+            kt_astig sim = p->target_kind == KT_TARGET_TOTAL ? f->total[k] : f->kerato[k];
             f->pred[k] = add(sim, a->main_vec);
             if (f->pred[k].mag < f->pred[f->best].mag - 1e-9) f->best = k;
         }
@@ -60,7 +56,7 @@ void kt_lri_choose(kt_lri_answer *a)
     if (a->nfam) {
         const kt_lri_family *f0 = &a->fam[0];
         a->pre_kerato = add(f0->kerato_intact, a->main_vec);
-        a->pre_total = add(add(f0->total_intact, a->post_vec), a->main_vec);
+        a->pre_total = add(f0->total_intact, a->main_vec);
     }
     kt_lri_main_sia(a);
 }
@@ -85,7 +81,7 @@ void kt_lri_post(const kt_lri_answer *a, kt_astig *kerato, kt_astig *total)
 {
     const kt_lri_family *f = &a->fam[a->chosen];
     *kerato = add(f->kerato[f->best], a->main_vec);
-    *total = add(add(f->total[f->best], a->post_vec), a->main_vec);
+    *total = add(f->total[f->best], a->main_vec);
 }
 
 int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const char *report, const char *path, kt_err *e)
@@ -137,9 +133,8 @@ int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const ch
             a->main_sia_total.mag, a->main_sia_total.axis);
     fprintf(j, "  \"target\": {\"astigmatism\": \"%s\", \"residual_D\": %.2f},\n",
             p->target_kind == KT_TARGET_TOTAL ? "total_corneal" : "keratometric", p->target_residual);
-    fprintf(j, "  \"pre_op\": {\"keratometric_D\": %.3f, \"keratometric_axis_deg\": %.1f, \"total_D\": %.3f, \"total_axis_deg\": %.1f, "
-               "\"posterior_contribution_D\": %.3f, \"posterior_contribution_axis_deg\": %.1f},\n",
-            a->pre_kerato.mag, a->pre_kerato.axis, a->pre_total.mag, a->pre_total.axis, a->post_vec.mag, a->post_vec.axis);
+    fprintf(j, "  \"pre_op\": {\"keratometric_D\": %.3f, \"keratometric_axis_deg\": %.1f, \"total_D\": %.3f, \"total_axis_deg\": %.1f},\n",
+            a->pre_kerato.mag, a->pre_kerato.axis, a->pre_total.mag, a->pre_total.axis);
     kt_lri_arc arcs[2];
     int narc = kt_lri_arcs(a, arcs);
     kt_astig kpost, tpost;

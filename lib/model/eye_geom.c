@@ -27,6 +27,30 @@ double kt_eye_geom_post_z(const kt_eye_geom *g, double rho)
     return g->z_pv - (g->Rp - sqrt(sq(g->Rp) - g->k * sq(rho))) / g->k;
 }
 
+/* Sag of a conic of apical curvature c and k = 1 + Q at radial distance rho; NAN past its rim. */
+static double conic_sag(double c, double k, double rho)
+{
+    double q = 1.0 - k * sq(c * rho);
+    if (q < 0) return NAN;
+    return c * rho * rho / (1.0 + sqrt(q));
+}
+
+static double post_taper(const kt_eye_geom *g, double rho)
+{
+    if (rho <= g->taper_in) return 1;
+    if (rho >= g->taper_out) return 0;
+    return 0.5 * (1 + cos(KT_PI * (rho - g->taper_in) / (g->taper_out - g->taper_in)));
+}
+
+double kt_eye_geom_post_delta(const kt_eye_geom *g, double x, double y)
+{
+    double rho = hypot(x, y);
+    if (g->cp_half == 0 || rho <= 0 || rho >= g->taper_out) return 0;
+    double u = x * g->cos_pax + y * g->sin_pax, v = -x * g->sin_pax + y * g->cos_pax;
+    double c = 1.0 / g->Rp + g->cp_half * (u * u - v * v) / (rho * rho);
+    return -post_taper(g, rho) * (conic_sag(c, g->k, rho) - conic_sag(1.0 / g->Rp, g->k, rho));
+}
+
 /* Biconic with zero conic constants: exact circles of radius 1/cs and 1/cf in the principal
  * meridians, apical curvature cs cos^2 + cf sin^2 in between. */
 double kt_eye_geom_toric_z(const kt_eye_geom *g, double x, double y)
@@ -199,6 +223,32 @@ static int init_outer(const kt_eye *eye, kt_eye_geom *g, kt_err *e)
     return KT_OK;
 }
 
+/* The toric posterior (eye.posterior_radius_steep/flat, posterior_steep_axis): half the
+ * apical curvature difference and the taper; its steepest meridian's conic must reach the
+ * taper's end and the warp must leave at least half the thickness (keratome-scene(5)). */
+static int init_post_toric(const kt_eye *eye, kt_eye_geom *g, kt_err *e)
+{
+    g->taper_out = g->Pp[0];
+    g->taper_in = 0.5 * g->Pp[0];
+    g->cos_pax = cos(eye->post_axis * DEG);
+    g->sin_pax = sin(eye->post_axis * DEG);
+    if (!(eye->r_post_steep > 0) || !(eye->r_post_flat > 0) || eye->r_post_steep == eye->r_post_flat) return KT_OK;
+    g->cp_half = 0.5 * (1.0 / eye->r_post_steep - 1.0 / eye->r_post_flat);
+    if (!(fabs(g->cp_half) < 0.25 / g->Rp))
+        return kt_fail(e, KT_EINPUT, "eye.posterior_radius_steep: %g mm against flat %g mm: expected posterior "
+                       "curvatures (1/radius) differing by less than half their mean", eye->r_post_steep, eye->r_post_flat);
+    for (int i = 0; i <= 64; i++) {
+        double rho = g->taper_out * i / 64.0, c = 1.0 / g->Rp + fabs(g->cp_half);
+        double d = post_taper(g, rho) * fabs(conic_sag(c, g->k, rho) - conic_sag(1.0 / g->Rp, g->k, rho));
+        double t = kt_eye_geom_thickness(g, rho);
+        if (!(d < 0.5 * t))
+            return kt_fail(e, KT_EINPUT, "eye.posterior_radius_steep: the toric posterior (radii %g/%g mm) moves "
+                           "the posterior cornea %g mm at %g mm from the axis, more than half its thickness %g mm",
+                           eye->r_post_steep, eye->r_post_flat, d, rho, t);
+    }
+    return KT_OK;
+}
+
 /* Posterior conic through the vertex (apex - t_central) and the point Pp at t_peripheral
  * along the anterior normal at the corneal edge: apical radius r_post, k = 1 + Q solved. */
 static int init_posterior(const kt_eye *eye, kt_eye_geom *g, kt_err *e)
@@ -224,7 +274,7 @@ static int init_posterior(const kt_eye *eye, kt_eye_geom *g, kt_err *e)
             return kt_fail(e, KT_EINPUT, "eye.r_post: the posterior cornea (radius %g mm) "
                            "crosses the anterior surface", g->Rp);
     }
-    return KT_OK;
+    return init_post_toric(eye, g, e);
 }
 
 static int init_limbus(const kt_eye *eye, kt_eye_geom *g, kt_err *e)

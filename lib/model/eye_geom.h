@@ -40,7 +40,11 @@ typedef struct kt_ring {
 typedef struct kt_eye {
     double r_ant_steep, r_ant_flat; /* anterior corneal radii in the steep/flat meridians, mm */
     double steep_axis;              /* steep meridian, deg (ophthalmic convention, 0..180) */
-    double r_post;                  /* posterior corneal radius, mm */
+    double r_post;                  /* posterior corneal (mean apical) radius, mm */
+    double r_post_steep, r_post_flat; /* posterior apical radii in its steep/flat meridians, mm
+                                       (equal: a posterior of revolution); their mean
+                                       curvature is 1/r_post */
+    double post_axis;               /* the posterior's steep meridian, deg (TABO, 0..180) */
     double t_central, t_peripheral; /* corneal thickness at the apex and at the limbus, mm */
     double wtw;                     /* white-to-white (corneal) diameter, mm */
     double limbus_width;            /* width of the limbal zone, mm */
@@ -77,6 +81,11 @@ typedef struct kt_eye_geom {
     double alphaL, alphaX;  /* polar angles (about the origin) of the limbus edge and model cut */
     double E[2], Pp[2], Lo[2], Li[2], So[2], Si[2]; /* profile points (rho, z) */
     double z_pv, Rp, k;     /* posterior vertex height, apical radius, k = 1 + Q (conic) */
+    double cp_half;         /* half the posterior's apical curvature difference, 1/mm */
+    double cos_pax, sin_pax; /* its steep meridian direction */
+    double taper_in, taper_out; /* the posterior warp's taper: whole within rho <= taper_in,
+                               none beyond taper_out (= Pp[0], where the posterior cornea
+                               meets the limbus) */
     int whole;              /* extent = 180 deg: closed globe, no rim */
 } kt_eye_geom;
 
@@ -89,6 +98,12 @@ double kt_eye_geom_toric_z(const kt_eye_geom *g, double x, double y);
 double kt_eye_geom_sphere_z(const kt_eye_geom *g, double rho);
 double kt_eye_geom_post_z(const kt_eye_geom *g, double rho);
 double kt_eye_geom_globe_z(const kt_eye_geom *g, double rho);
+
+/* The toric posterior warp's height change at (x, y) (mm, to add to the base posterior's z):
+ * the posterior conic with the meridian's apical curvature 1/Rp + cp_half cos 2(theta - axis)
+ * and the base's conic constant, less the base conic, times the taper (1 for rho <= taper_in,
+ * a half cosine down to 0 at taper_out, 0 beyond); 0 for a posterior of revolution. */
+double kt_eye_geom_post_delta(const kt_eye_geom *g, double x, double y);
 
 /* Thickness of the base geometry at radial distance r: along the anterior normal in the
  * cornea, along the globe radius in the limbus, the sclera thickness beyond. */
@@ -119,7 +134,10 @@ double kt_eye_anterior_z(const kt_eye *eye, double x, double y);
 double kt_eye_thickness(const kt_eye *eye, double r);
 
 /* Map the nodes of a mesh of revolution onto the toric anterior surface of g (mid-edge nodes
- * of the anterior cornea follow the surface); KT_ERUN when a node cannot be mapped. */
+ * of the anterior cornea follow the surface) and, when the posterior is toric, onto the toric
+ * posterior (kt_eye_geom_post_delta, weighted 1 on the posterior surface down to 0 on the
+ * anterior one, tapered to 0 before the limbus: the limbus and sclera do not move);
+ * KT_ERUN when a node cannot be mapped. */
 int kt_eye_warp_toric(const kt_eye_geom *g, kt_mesh *m, kt_err *e);
 
 /* Puts the mid-edge nodes of every P2 tet whose Jacobian is not positive at a corner or its

@@ -1,4 +1,4 @@
-/* eye_warp.c: the toric anterior surface applied to a meshed eye of revolution, and the check
+/* eye_warp.c: the toric anterior (and posterior) surfaces applied to a meshed eye of revolution, and the check
  * that no curved (P2) tet came out inverted. */
 #include "eye_geom.h"
 
@@ -19,7 +19,10 @@ static void mark_group_nodes(const kt_mesh *m, int tag, char *mark)
 }
 
 /* Map the base eye to the toric one: z += delta(x, y) w(rho, z); anterior nodes (and the
- * limbus outer surface) are then put exactly on their surfaces. */
+ * limbus outer surface) are then put exactly on their surfaces. A toric posterior adds
+ * (1 - h) delta_post(x, y), h the relative height through the cornea (0 on the posterior
+ * surface): posterior nodes land exactly on the toric posterior, whose delta is 0 beyond
+ * the taper's end (before the limbus). */
 int kt_eye_warp_toric(const kt_eye_geom *g, kt_mesh *m, kt_err *e)
 {
     char *ant = kt_calloc((size_t)m->nn, 1, e), *out = kt_calloc((size_t)m->nn, 1, e);
@@ -32,6 +35,13 @@ int kt_eye_warp_toric(const kt_eye_geom *g, kt_mesh *m, kt_err *e)
     mark_group_nodes(m, KT_EYE_SURF_OUTER, out);
     for (int i = 0; i < m->nn; i++) {
         double *p = m->xyz + 3 * (size_t)i, rho = hypot(p[0], p[1]);
+        /* The toric posterior: its warp weighted by the depth below the anterior surface (1
+         * on the posterior surface), from the base position, before the anterior warp. */
+        double dpost = 0;
+        if (!ant[i] && g->cp_half != 0 && rho < g->taper_out) {
+            double h = kt_eye_geom_height(g, rho, p[2]);
+            if (isfinite(h)) dpost = (1 - h) * kt_eye_geom_post_delta(g, p[0], p[1]);
+        }
         if (ant[i]) {
             p[2] = kt_eye_geom_toric_z(g, p[0], p[1]);
         } else if (out[i] && atan2(rho, p[2]) < g->alphaL) {
@@ -41,6 +51,7 @@ int kt_eye_warp_toric(const kt_eye_geom *g, kt_mesh *m, kt_err *e)
             double delta = kt_eye_geom_toric_z(g, p[0], p[1]) - kt_eye_geom_sphere_z(g, rho);
             if (w > 0) p[2] += w * delta;
         }
+        p[2] += dpost;
         if (!isfinite(p[2])) {
             free(ant);
             free(out);

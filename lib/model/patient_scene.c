@@ -48,8 +48,9 @@ int kt_patient_scene(const kt_patient *p, const kt_scene *base, kt_scene *s, kt_
     eye->r_ant_steep = p->ant.r_steep;
     eye->r_ant_flat = p->ant.r_flat;
     eye->steep_axis = p->ant.axis;
-    /* The mesher's posterior is rotationally symmetric: its mean curvature (the toricity is
-     * carried analytically by the planner, keratome-patient(5)). */
+    /* The posterior, measured or the population default, toric in the mesh (eye_warp.c). */
+    eye->r_post_steep = p->post.r_steep, eye->r_post_flat = p->post.r_flat;
+    eye->post_axis = p->post.axis;
     eye->r_post = 2 / (1 / p->post.r_steep + 1 / p->post.r_flat);
     eye->t_central = p->t_central;
     eye->wtw = p->wtw;

@@ -14,6 +14,8 @@ void kt_scene_eye_defaults(kt_eye *eye)
     eye->r_ant_steep = eye->r_ant_flat = 7.8; /* Le Grand schematic eye */
     eye->steep_axis = 90.0;                   /* with-the-rule convention when toric */
     eye->r_post = 6.7;                        /* schematic eyes 6.5 (Le Grand) - 6.8 (Gullstrand) */
+    eye->r_post_steep = eye->r_post_flat = 6.7; /* of revolution unless the scene says */
+    eye->post_axis = 90.0;                    /* steep vertical when toric (Koch et al. 2012) */
     eye->t_central = 0.54;                    /* Doughty & Zaman 2000 */
     eye->t_peripheral = 0.67;                 /* Martola & Baum 1968 */
     eye->wtw = 11.7;                          /* Rufer et al. 2005 */
@@ -113,7 +115,8 @@ static int parse_sizes(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
 
 static const char *const EYE_KEYS[] = {
     "anterior_radius", "anterior_radius_steep", "anterior_radius_flat", "steep_axis",
-    "posterior_radius", "central_thickness", "peripheral_thickness", "white_to_white",
+    "posterior_radius", "posterior_radius_steep", "posterior_radius_flat", "posterior_steep_axis",
+    "central_thickness", "peripheral_thickness", "white_to_white",
     "limbus_width", "sclera_thickness", "globe_radius", "extent", "optical_zone", "mesh_size",
     "incision_rings", "fibres", NULL};
 static const char *const FIBRE_KEYS[] = {"limbal_band", "limbal_density", NULL};
@@ -170,6 +173,35 @@ static int check_eye(kt_yml *y, const yaml_node_t *n, const kt_eye *eye, kt_err 
     return KT_OK;
 }
 
+/* The posterior surface: posterior_radius (of revolution) or the steep/flat pair with
+ * posterior_steep_axis (toric); r_post is the pair's mean curvature's radius. */
+static int parse_posterior(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
+{
+    const char *w = "eye";
+    kt_yml_bounds radius = kt_scene_range(1, 50, 0, 0);
+    yaml_node_t *one = kt_yml_get(y, n, "posterior_radius"), *ps = kt_yml_get(y, n, "posterior_radius_steep"),
+                *pf = kt_yml_get(y, n, "posterior_radius_flat");
+    if (one && (ps || pf))
+        return kt_yml_fail(y, one, e, "eye.posterior_radius: expected either posterior_radius or the steep/flat pair, not both");
+    if (!ps != !pf)
+        return kt_yml_fail(y, ps ? ps : pf, e, "eye.%s: expected posterior_radius_steep and posterior_radius_flat together",
+                           ps ? "posterior_radius_steep" : "posterior_radius_flat");
+    double r = eye->r_post;
+    if (kt_yml_key_quantity(y, n, w, "posterior_radius", KT_UNIT_LENGTH, radius, &r, e) ||
+        kt_yml_key_quantity(y, n, w, "posterior_steep_axis", KT_UNIT_ANGLE, kt_scene_range(0, 180, 0, 0), &eye->post_axis, e))
+        return e->code;
+    if (one || !ps) eye->r_post = eye->r_post_steep = eye->r_post_flat = r;
+    if (!ps) return KT_OK;
+    if (kt_yml_key_quantity(y, n, w, "posterior_radius_steep", KT_UNIT_LENGTH, radius, &eye->r_post_steep, e) ||
+        kt_yml_key_quantity(y, n, w, "posterior_radius_flat", KT_UNIT_LENGTH, radius, &eye->r_post_flat, e))
+        return e->code;
+    if (eye->r_post_steep > eye->r_post_flat)
+        return kt_yml_fail(y, ps, e, "eye.posterior_radius_steep: expected at most posterior_radius_flat (%g mm), got %g mm",
+                           eye->r_post_flat, eye->r_post_steep);
+    eye->r_post = 2 / (1 / eye->r_post_steep + 1 / eye->r_post_flat);
+    return KT_OK;
+}
+
 int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
 {
     const char *w = "eye";
@@ -184,7 +216,6 @@ int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
     if (kt_yml_key_quantity(y, n, w, "anterior_radius_steep", KT_UNIT_LENGTH, radius, &eye->r_ant_steep, e) ||
         kt_yml_key_quantity(y, n, w, "anterior_radius_flat", KT_UNIT_LENGTH, radius, &eye->r_ant_flat, e) ||
         kt_yml_key_quantity(y, n, w, "steep_axis", KT_UNIT_ANGLE, kt_scene_range(0, 180, 0, 0), &eye->steep_axis, e) ||
-        kt_yml_key_quantity(y, n, w, "posterior_radius", KT_UNIT_LENGTH, radius, &eye->r_post, e) ||
         kt_yml_key_quantity(y, n, w, "central_thickness", KT_UNIT_LENGTH, thick, &eye->t_central, e) ||
         kt_yml_key_quantity(y, n, w, "peripheral_thickness", KT_UNIT_LENGTH, thick, &eye->t_peripheral, e) ||
         kt_yml_key_quantity(y, n, w, "white_to_white", KT_UNIT_LENGTH, kt_scene_range(2, 30, 0, 0), &eye->wtw, e) ||
@@ -194,6 +225,7 @@ int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
         kt_yml_key_quantity(y, n, w, "extent", KT_UNIT_ANGLE, kt_scene_range(0, 180, 1, 0), &eye->extent, e) ||
         kt_yml_key_quantity(y, n, w, "optical_zone", KT_UNIT_LENGTH, kt_scene_range(0, 30, 1, 0), &eye->optical_zone, e))
         return e->code;
+    if (parse_posterior(y, n, eye, e)) return e->code;
     yaml_node_t *fib = kt_yml_get(y, n, "fibres");
     if (fib && (kt_yml_check_map(y, fib, "eye.fibres", FIBRE_KEYS, e) ||
                 kt_yml_key_quantity(y, fib, "eye.fibres", "limbal_band", KT_UNIT_LENGTH,

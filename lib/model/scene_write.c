@@ -10,7 +10,11 @@ static void write_eye(FILE *f, const kt_eye *y)
 {
     fprintf(f, "eye:\n");
     fprintf(f, "  anterior_radius_steep: %.17g mm\n  anterior_radius_flat: %.17g mm\n", y->r_ant_steep, y->r_ant_flat);
-    fprintf(f, "  steep_axis: %.17g deg\n  posterior_radius: %.17g mm\n", y->steep_axis, y->r_post);
+    fprintf(f, "  steep_axis: %.17g deg\n", y->steep_axis);
+    if (y->r_post_steep != y->r_post_flat)
+        fprintf(f, "  posterior_radius_steep: %.17g mm\n  posterior_radius_flat: %.17g mm\n  posterior_steep_axis: %.17g deg\n",
+                y->r_post_steep, y->r_post_flat, y->post_axis);
+    else fprintf(f, "  posterior_radius: %.17g mm\n", y->r_post);
     fprintf(f, "  central_thickness: %.17g mm\n  peripheral_thickness: %.17g mm\n", y->t_central, y->t_peripheral);
     fprintf(f, "  white_to_white: %.17g mm\n  limbus_width: %.17g mm\n", y->wtw, y->limbus_width);
     fprintf(f, "  sclera_thickness: %.17g mm\n  globe_radius: %.17g mm\n", y->sclera_thickness, y->globe_radius);
