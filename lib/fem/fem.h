@@ -72,6 +72,15 @@ int kt_fem_tet_stiffness(int order, const double *x, kt_material mat, double *Ke
  * of the load stiffness of td->pface. */
 int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *Ke, kt_err *e);
 
+/* kt_fem_element and kt_fem_element_release of tet `tet` under nd sets of per-tet data at once
+ * (td[k] in place of mats->td; the region materials where td[k]->C is NULL): Ke + k (3nv)^2
+ * and fe + k 3nv (each may be NULL), the quadrature points' gradients and strain matrices
+ * computed once for all of them. */
+#define KT_FEM_MULTI_MAX 8 /* data sets kt_fem_element_multi takes at once */
+int kt_fem_element_multi(const kt_mesh *m, const kt_materials *mats,
+                         const kt_fem_tetdata *const *td, int nd, int tet, double *Ke,
+                         double *fe, kt_err *e);
+
 /* Prestress internal forces of tet `tet`: fe (3nv) = -int B^T sig (zero without td->sig). */
 int kt_fem_element_release(const kt_mesh *m, const kt_materials *mats, int tet, double *fe,
                            kt_err *e);
@@ -104,6 +113,10 @@ void kt_fem_face_load_stiffness(int order, const double *xf, double p, double *K
  * problem factors, with values lifted into the right-hand side by kt_fem_lift. */
 cholmod_sparse *kt_fem_assemble(const kt_mesh *m, const kt_materials *mats,
                                 const unsigned char *fixed, cholmod_common *c, kt_err *e);
+
+/* The pattern of kt_fem_assemble's matrix without fixed DOFs (CHOLMOD_PATTERN, lower, sorted
+ * rows): every entry an element of m couples, no values. */
+cholmod_sparse *kt_fem_pattern(const kt_mesh *m, cholmod_common *c, kt_err *e);
 
 /* Consistent nodal forces of a pressure p (MPa) on the boundary surface with tag surf_tag,
  * pushing into the solid (traction -p n, n the solid's outward normal); added to f (3*nn).
