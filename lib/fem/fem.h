@@ -134,11 +134,12 @@ int kt_fem_lift(const cholmod_sparse *K, const unsigned char *fixed, const doubl
 int kt_fem_solve(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
                  const double *g, const double *f, double *u, cholmod_common *c, kt_err *e);
 
-/* kt_fem_solve, then nmore solves with the same factorization: for k = 0..nmore-1, more(ctx, k,
- * u, b) fills b (3*nn, zeroed on entry) from the first solution u, and umore + k 3nn gets the
- * solution of K x = b with zero values on the fixed DOFs (fixed rows of b are zeroed), each
- * checked like the first. The prestress's derivatives use it (lib/fem/sens.h). */
-typedef int (*kt_fem_more_rhs)(void *ctx, int k, const double *u, double *b, kt_err *e);
+/* kt_fem_solve, then nmore solves with the same factorization, in one substitution: more(ctx,
+ * u, B) fills B (nmore x 3nn, column k at B + k 3nn, zeroed on entry) from the first solution u,
+ * and umore + k 3nn gets the solution of K x = column k with zero values on the fixed DOFs
+ * (fixed rows of B are zeroed), each checked like the first. The prestress's derivatives use
+ * it (lib/fem/sens.h). */
+typedef int (*kt_fem_more_rhs)(void *ctx, const double *u, double *B, kt_err *e);
 int kt_fem_solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
                       const double *g, const double *f, double *u, int nmore,
                       kt_fem_more_rhs more, void *ctx, double *umore, cholmod_common *c,
