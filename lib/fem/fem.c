@@ -400,6 +400,27 @@ int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *
     return KT_OK;
 }
 
+/* Ke += w B^T C B on the lower triangle (r >= s), mirrored: half the products of
+ * kt_fem_add_btcb (the same sums to rounding, exactly symmetric). */
+static void add_btcb_sym(int nv, const double *B, const double *C, double w, double *Ke)
+{
+    int ld = 3 * nv;
+    double CB[6 * 30];
+    for (int p = 0; p < 6; p++)
+        for (int r = 0; r < ld; r++) {
+            double s = 0;
+            for (int q = 0; q < 6; q++) s += C[6 * p + q] * B[q * ld + r];
+            CB[p * ld + r] = s;
+        }
+    for (int r = 0; r < ld; r++)
+        for (int s = 0; s <= r; s++) {
+            double v = 0;
+            for (int p = 0; p < 6; p++) v += B[p * ld + r] * CB[p * ld + s];
+            Ke[r * ld + s] += w * v;
+            if (s != r) Ke[s * ld + r] += w * v;
+        }
+}
+
 /* Quadrature point q's share of every data set: w B^T C_k B + the stress stiffness into Ke_k,
  * -w B^T sig_k into fe_k. */
 static void multi_point(int nv, double (*g)[3], const double *B, double w, int tet, int q,
@@ -409,7 +430,7 @@ static void multi_point(int nv, double (*g)[3], const double *B, double w, int t
     int ld = 3 * nv;
     for (int k = 0; k < nd; k++) {
         const double *sig = td[k]->sig ? td[k]->sig + ((size_t)tet * KT_FEM_NQ + q) * 6 : NULL;
-        if (Ke && material[k]) kt_fem_add_btcb(nv, B, C + 36 * k, w, Ke + (size_t)k * ld * ld);
+        if (Ke && material[k]) add_btcb_sym(nv, B, C + 36 * k, w, Ke + (size_t)k * ld * ld);
         if (Ke && sig) kt_fem_add_sigma(nv, g, sig, w, Ke + (size_t)k * ld * ld);
         for (int r = 0; fe && sig && r < ld; r++) {
             double s = 0;

@@ -67,53 +67,68 @@ static int variable_pattern(kt_plan_sens *D, const kt_edits_plan *p, const kt_me
     return e->code;
 }
 
-/* Position of entry (v, w), v >= w, in D->P (-1: not in the pattern). */
-static int find(const cholmod_sparse *P, int v, int w)
+/* Position in D->P of the first row of node block n (rows 3n.. 3n+2, those >= w) in column w:
+ * the pattern holds whole node blocks (K's, through same-component chains), so row v of the
+ * block sits at the result + v - max(3n, w). -1: no such block. */
+static int block_at(const cholmod_sparse *P, int n, int w)
 {
     const int *Pp = P->p, *Pi = P->i;
-    int lo = Pp[w], hi = Pp[w + 1];
+    int lo = Pp[w], hi = Pp[w + 1], r0 = 3 * n > w ? 3 * n : w;
     while (lo < hi) {
         int mid = lo + (hi - lo) / 2;
-        if (Pi[mid] < v) lo = mid + 1;
+        if (Pi[mid] < r0) lo = mid + 1;
         else hi = mid;
     }
-    return lo < Pp[w + 1] && Pi[lo] == v ? lo : -1;
+    return lo < Pp[w + 1] && Pi[lo] == r0 ? lo : -1;
 }
 
-/* dAx(v, w) += x (nd values). */
-static int add(kt_plan_sens *D, int v, int w, const double *x, kt_err *e)
+/* dAx(v, w) += x (nd values) for the rows v of node block nv >= w, column w: x + nd (v - v0). */
+static int add_block(kt_plan_sens *D, int nb, int w, int r0, int r1, const double *x, kt_err *e)
 {
-    int q = find(D->P, v, w);
-    if (q < 0)
-        return kt_fail(e, KT_ERUN, "derivative entry (%d, %d) outside the plan's pattern", v, w);
-    double *d = D->dAx + (size_t)D->nd * q;
-    for (int k = 0; k < D->nd; k++) d[k] += x[k];
+    int q = block_at(D->P, nb, w), v0 = 3 * nb > w ? 3 * nb : w, nd = D->nd;
+    const int *Pi = D->P->i;
+    for (int r = r0; r < r1; r++) {
+        int v = 3 * nb + r;
+        if (v < w) continue;
+        int at = q + v - v0;
+        if (q < 0 || Pi[at] != v)
+            return kt_fail(e, KT_ERUN, "derivative entry (%d, %d) outside the plan's pattern", v, w);
+        double *d = D->dAx + (size_t)nd * at;
+        for (int k = 0; k < nd; k++) d[k] += x[(r - r0) * nd + k];
+    }
     return KT_OK;
 }
 
 /* One element's nd matrices (Ke + k ld^2, ld = 3 nv) into dAx as kt_plan_transform takes the
  * assembled K: every lower entry K(I, J) of tet t's nodes, and its mirror, through the
- * chains; ch[a] holds 3x node a's chain (ncg[a] nodes). */
+ * chains; ch[a] holds 3x node a's chain (nch[a] nodes). */
 static int scatter(kt_plan_sens *D, const int *t, int nv, const int (*ch)[KT_PLAN_CHAIN_MAX],
                    const int *nch, const double *Ke, kt_err *e)
 {
     int ld = 3 * nv, nd = D->nd;
-    double x[KT_FEM_MULTI_MAX];
+    double x[3 * KT_FEM_MULTI_MAX], xm[3 * KT_FEM_MULTI_MAX];
     for (int b = 0; b < nv; b++)
         for (int a = 0; a < nv; a++) {
             if (t[a] < t[b]) continue;
-            for (int c = 0; c < 3; c++)
-                for (int r = (t[a] == t[b] ? c : 0); r < 3; r++) {
-                    int mirror = !(t[a] == t[b] && r == c);
+            int same = t[a] == t[b];
+            for (int c = 0; c < 3; c++) {
+                /* column c of the node pair: rows r (K(3t[a]+r, 3t[b]+c)), and the mirror
+                 * K(3t[b]+c, 3t[a]+r) as column r's row c (off the diagonal entry) */
+                int r0 = same ? c : 0;
+                for (int r = r0; r < 3; r++)
                     for (int k = 0; k < nd; k++)
-                        x[k] = Ke[(size_t)k * ld * ld + (3 * a + r) * ld + 3 * b + c];
-                    for (int al = 0; al < nch[a]; al++)
-                        for (int be = 0; be < nch[b]; be++) {
-                            int v = ch[a][al] + r, w = ch[b][be] + c;
-                            if (v >= w && add(D, v, w, x, e)) return e->code;
-                            if (mirror && w >= v && add(D, w, v, x, e)) return e->code;
+                        x[(r - r0) * nd + k] = Ke[(size_t)k * ld * ld + (3 * a + r) * ld + 3 * b + c];
+                for (int al = 0; al < nch[a]; al++)
+                    for (int be = 0; be < nch[b]; be++) {
+                        int na = ch[a][al] / 3, nb = ch[b][be] / 3;
+                        if (add_block(D, na, 3 * nb + c, r0, 3, x, e)) return e->code;
+                        for (int r = r0; r < 3; r++) { /* the mirror: (3nb + c, 3na + r) */
+                            if (same && r == c) continue;
+                            for (int k = 0; k < nd; k++) xm[k] = x[(r - r0) * nd + k];
+                            if (add_block(D, nb, 3 * na + r, c, c + 1, xm, e)) return e->code;
                         }
-                }
+                    }
+            }
         }
     return KT_OK;
 }
