@@ -12,8 +12,8 @@
  *   dsig0/dq = dC/dq eps(u0) + C eps(du0/dq), du0/dq = K0^-1 (df_p/dq - dK0/dq u0),
  * every term linear in its data, so one kt_fem_tetdata per quantity holds dC, dsig0 and
  * dpface, and kt_fem_element / kt_fem_element_release with it give the element's dA/dq and
- * the release's derivative. du0/dq costs one more substitution per quantity with the prestress
- * solve's own factorization (kt_physics_finish_sens). */
+ * the release's derivative. du0/dq costs one more substitution with the prestress solve's own
+ * factorization, every quantity at once (kt_physics_finish_sens). */
 #ifndef KT_SENS_H
 #define KT_SENS_H
 
