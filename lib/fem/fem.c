@@ -400,6 +400,78 @@ int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *
     return KT_OK;
 }
 
+/* Ke += w B^T C B on the lower triangle (r >= s), mirrored: half the products of
+ * kt_fem_add_btcb (the same sums to rounding, exactly symmetric). */
+static void add_btcb_sym(int nv, const double *B, const double *C, double w, double *Ke)
+{
+    int ld = 3 * nv;
+    double CB[6 * 30];
+    for (int p = 0; p < 6; p++)
+        for (int r = 0; r < ld; r++) {
+            double s = 0;
+            for (int q = 0; q < 6; q++) s += C[6 * p + q] * B[q * ld + r];
+            CB[p * ld + r] = s;
+        }
+    for (int r = 0; r < ld; r++)
+        for (int s = 0; s <= r; s++) {
+            double v = 0;
+            for (int p = 0; p < 6; p++) v += B[p * ld + r] * CB[p * ld + s];
+            Ke[r * ld + s] += w * v;
+            if (s != r) Ke[s * ld + r] += w * v;
+        }
+}
+
+/* Quadrature point q's share of every data set: w B^T C_k B + the stress stiffness into Ke_k,
+ * -w B^T sig_k into fe_k. */
+static void multi_point(int nv, double (*g)[3], const double *B, double w, int tet, int q,
+                        const kt_fem_tetdata *const *td, int nd, const double *C,
+                        const int *material, double *Ke, double *fe)
+{
+    int ld = 3 * nv;
+    for (int k = 0; k < nd; k++) {
+        const double *sig = td[k]->sig ? td[k]->sig + ((size_t)tet * KT_FEM_NQ + q) * 6 : NULL;
+        if (Ke && material[k]) add_btcb_sym(nv, B, C + 36 * k, w, Ke + (size_t)k * ld * ld);
+        if (Ke && sig) kt_fem_add_sigma(nv, g, sig, w, Ke + (size_t)k * ld * ld);
+        for (int r = 0; fe && sig && r < ld; r++) {
+            double s = 0;
+            for (int p = 0; p < 6; p++) s += B[p * ld + r] * sig[p];
+            fe[k * ld + r] -= w * s;
+        }
+    }
+}
+
+int kt_fem_element_multi(const kt_mesh *m, const kt_materials *mats,
+                         const kt_fem_tetdata *const *td, int nd, int tet, double *Ke,
+                         double *fe, kt_err *e)
+{
+    int nv = kt_tet_nv(m->order), ld = 3 * nv, material[KT_FEM_MULTI_MAX];
+    double x[30], C[36 * KT_FEM_MULTI_MAX], B[6 * 30], g[10][3], det;
+    if (nd > KT_FEM_MULTI_MAX)
+        return kt_fail(e, KT_ERUN, "%d data sets at once (at most %d)", nd, KT_FEM_MULTI_MAX);
+    kt_fem_gather_x(m, tet, x);
+    for (int k = 0; k < nd; k++) {
+        kt_materials mk = *mats;
+        mk.td = td[k];
+        if (kt_fem_element_C(m, &mk, tet, C + 36 * k, e)) return e->code;
+        material[k] = 0; /* a zero C (a derivative's tet that q does not reach) adds nothing */
+        for (int i = 0; i < 36 && !material[k]; i++) material[k] = C[36 * k + i] != 0;
+    }
+    if (Ke) memset(Ke, 0, sizeof(double) * ld * ld * nd);
+    if (fe) memset(fe, 0, sizeof(double) * ld * nd);
+    kt_tet_rule rule = kt_fem_rule(m->order, x);
+    for (int q = 0; q < rule.n; q++) {
+        if (kt_fem_point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
+        kt_fem_strain_matrix(nv, g, NULL, B);
+        multi_point(nv, g, B, rule.w[q] * det, tet, q, td, nd, C, material, Ke, fe);
+    }
+    for (int k = 0; Ke && k < nd; k++)
+        for (int f = 0; td[k]->pface && f < 4; f++) {
+            double p = td[k]->pface[4 * (size_t)tet + f];
+            if (p != 0) kt_fem_add_face_load(m->order, x, x, f, p, Ke + (size_t)k * ld * ld, NULL);
+        }
+    return KT_OK;
+}
+
 int kt_fem_element_release(const kt_mesh *m, const kt_materials *mats, int tet, double *fe,
                            kt_err *e)
 {

@@ -72,6 +72,15 @@ int kt_fem_tet_stiffness(int order, const double *x, kt_material mat, double *Ke
  * of the load stiffness of td->pface. */
 int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *Ke, kt_err *e);
 
+/* kt_fem_element and kt_fem_element_release of tet `tet` under nd sets of per-tet data at once
+ * (td[k] in place of mats->td; the region materials where td[k]->C is NULL): Ke + k (3nv)^2
+ * and fe + k 3nv (each may be NULL), the quadrature points' gradients and strain matrices
+ * computed once for all of them. */
+#define KT_FEM_MULTI_MAX 8 /* data sets kt_fem_element_multi takes at once */
+int kt_fem_element_multi(const kt_mesh *m, const kt_materials *mats,
+                         const kt_fem_tetdata *const *td, int nd, int tet, double *Ke,
+                         double *fe, kt_err *e);
+
 /* Prestress internal forces of tet `tet`: fe (3nv) = -int B^T sig (zero without td->sig). */
 int kt_fem_element_release(const kt_mesh *m, const kt_materials *mats, int tet, double *fe,
                            kt_err *e);
@@ -105,6 +114,10 @@ void kt_fem_face_load_stiffness(int order, const double *xf, double p, double *K
 cholmod_sparse *kt_fem_assemble(const kt_mesh *m, const kt_materials *mats,
                                 const unsigned char *fixed, cholmod_common *c, kt_err *e);
 
+/* The pattern of kt_fem_assemble's matrix without fixed DOFs (CHOLMOD_PATTERN, lower, sorted
+ * rows): every entry an element of m couples, no values. */
+cholmod_sparse *kt_fem_pattern(const kt_mesh *m, cholmod_common *c, kt_err *e);
+
 /* Consistent nodal forces of a pressure p (MPa) on the boundary surface with tag surf_tag,
  * pushing into the solid (traction -p n, n the solid's outward normal); added to f (3*nn).
  * A triangle that is not a face of exactly one tet is an error. */
@@ -127,15 +140,16 @@ int kt_fem_solve_order(const kt_mesh *m, const kt_materials *mats, const unsigne
                        const double *g, const double *f, double *u, int **perm,
                        cholmod_common *c, kt_err *e);
 
-/* kt_fem_solve, then nmore solves with the same factorization: for k = 0..nmore-1, more(ctx, k,
- * u, b) fills b (3*nn, zeroed on entry) from the first solution u, and umore + k 3nn gets the
- * solution of K x = b with zero values on the fixed DOFs (fixed rows of b are zeroed), each
- * checked like the first. The prestress's derivatives use it (lib/fem/sens.h). */
-typedef int (*kt_fem_more_rhs)(void *ctx, int k, const double *u, double *b, kt_err *e);
+/* kt_fem_solve, then nmore solves with the same factorization, in one substitution: more(ctx,
+ * u, B) fills B (nmore x 3nn, column k at B + k 3nn, zeroed on entry) from the first solution u,
+ * and umore + k 3nn gets the solution of K x = column k with zero values on the fixed DOFs
+ * (fixed rows of B are zeroed), each checked like the first; perm (NULL: not wanted) as in
+ * kt_fem_solve_order. The prestress's derivatives use it (lib/fem/sens.h). */
+typedef int (*kt_fem_more_rhs)(void *ctx, const double *u, double *B, kt_err *e);
 int kt_fem_solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
                       const double *g, const double *f, double *u, int nmore,
-                      kt_fem_more_rhs more, void *ctx, double *umore, cholmod_common *c,
-                      kt_err *e);
+                      kt_fem_more_rhs more, void *ctx, double *umore, int **perm,
+                      cholmod_common *c, kt_err *e);
 
 /* ------------------------------------------------ total Lagrangian (nonlinear) kernels
  * The same element data read as a geometrically nonlinear problem: displacement u (3*nn) from the

@@ -257,6 +257,23 @@ static cholmod_sparse *assemble(const kt_mesh *m, const kt_materials *mats, nl_s
     return A;
 }
 
+cholmod_sparse *kt_fem_pattern(const kt_mesh *m, cholmod_common *c, kt_err *e)
+{
+    if (m->order != 1 && m->order != 2) {
+        kt_fail(e, KT_EINPUT, "mesh order %d (expected 1 or 2)", m->order);
+        return NULL;
+    }
+    node_pattern P;
+    if (build_pattern(m, &P, e)) return NULL;
+    size_t nnz = dof_nnz(m, &P), n = 3 * (size_t)m->nn;
+    cholmod_sparse *A = nnz > INT_MAX ? NULL
+                        : cholmod_allocate_sparse(n, n, nnz, 1, 1, -1, CHOLMOD_PATTERN, c);
+    if (A) fill_structure(m, &P, A);
+    else kt_fail(e, KT_ERUN, "no room for the pattern of a %zu x %zu matrix with %zu entries", n,
+                 n, nnz);
+    pattern_free(&P);
+    return A;
+}
 
 cholmod_sparse *kt_fem_assemble(const kt_mesh *m, const kt_materials *mats,
                                 const unsigned char *fixed, cholmod_common *c, kt_err *e)

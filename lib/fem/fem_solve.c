@@ -60,29 +60,24 @@ static double residual_scale(const cholmod_sparse *A, const double *x, const dou
     return norm2(s, n);
 }
 
-/* u = A \ b with the factor L, checked: ||A u - b|| <= 1e-10 || |A||u| + |b| ||. The plain
- * ||A u - b|| / ||b|| cannot meet 1e-10 on a slender body: a double u has a residual floor near
- * eps || |A||u| ||, and a bending cantilever's |A||u| is 1e5 times |b| (see test_fem_beam). */
-static int solve_with(cholmod_sparse *A, cholmod_factor *L, double *b, double *u,
-                      cholmod_common *c, kt_err *e)
+/* The residual check of one solution u of A u = b: ||A u - b|| <= 1e-10 || |A||u| + |b| ||. The
+ * plain ||A u - b|| / ||b|| cannot meet 1e-10 on a slender body: a double u has a residual floor
+ * near eps || |A||u| ||, and a bending cantilever's |A||u| is 1e5 times |b| (see
+ * test_fem_beam). */
+static int check_solution(cholmod_sparse *A, const double *b, const double *u, cholmod_common *c,
+                          kt_err *e)
 {
     size_t n = A->nrow;
-    cholmod_dense B = kt_chol_column(b, n);
-    cholmod_dense *X = cholmod_solve(CHOLMOD_A, L, &B, c);
-    if (!X) return kt_fail(e, KT_ERUN, "CHOLMOD solve failed (status %d)", c->status);
     double *r = kt_calloc(n, sizeof(double), e), *s = kt_calloc(n, sizeof(double), e);
     if (e->code) {
         free(r);
         free(s);
-        cholmod_free_dense(&X, c);
         return e->code;
     }
     memcpy(r, b, n * sizeof(double));
-    cholmod_dense R = kt_chol_column(r, n);
+    cholmod_dense R = kt_chol_column(r, n), X = kt_chol_column((double *)u, n);
     double one[2] = {1, 0}, minus_one[2] = {-1, 0};
-    cholmod_sdmult(A, 0, one, minus_one, X, &R, c); /* r = A x - b */
-    memcpy(u, X->x, n * sizeof(double));
-    cholmod_free_dense(&X, c);
+    cholmod_sdmult(A, 0, one, minus_one, &X, &R, c); /* r = A u - b */
     double nr = norm2(r, n), nb = norm2(b, n), scale = residual_scale(A, u, b, s);
     free(r);
     free(s);
@@ -90,6 +85,22 @@ static int solve_with(cholmod_sparse *A, cholmod_factor *L, double *b, double *u
         return kt_fail(e, KT_ERUN,
                        "direct solve: residual ||K u - f|| = %.3g is %.3g of || |K||u| + |f| || "
                        "(limit 1e-10) and %.3g of ||f||", nr, nr / scale, nb > 0 ? nr / nb : nr);
+    return KT_OK;
+}
+
+/* U (n x ncol) = A \ B with the factor L, one substitution for every column, each checked. */
+static int solve_with(cholmod_sparse *A, cholmod_factor *L, double *B, int ncol, double *U,
+                      cholmod_common *c, kt_err *e)
+{
+    size_t n = A->nrow;
+    cholmod_dense Bd = {n, (size_t)ncol, n * (size_t)ncol, n, B, NULL, CHOLMOD_REAL,
+                        CHOLMOD_DOUBLE};
+    cholmod_dense *X = cholmod_solve(CHOLMOD_A, L, &Bd, c);
+    if (!X) return kt_fail(e, KT_ERUN, "CHOLMOD solve failed (status %d)", c->status);
+    memcpy(U, X->x, n * (size_t)ncol * sizeof(double));
+    cholmod_free_dense(&X, c);
+    for (int k = 0; k < ncol; k++)
+        if (check_solution(A, B + k * n, U + k * n, c, e)) return e->code;
     return KT_OK;
 }
 
@@ -102,7 +113,7 @@ static int solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned
     if (!K) return e->code;
     size_t n = K->nrow;
     cholmod_factor *L = NULL;
-    double *b = kt_calloc(n, sizeof(double), e);
+    double *b = kt_calloc(n * (size_t)(nmore > 0 ? nmore : 1), sizeof(double), e);
     if (!b) goto done;
     memcpy(b, f, n * sizeof(double));
     if (fixed) {
@@ -110,7 +121,7 @@ static int solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned
         kt_fem_apply_fixed(K, fixed);
     }
     if (e->code || !(L = kt_chol_analyze_factor(K, c, "direct solve", e)) ||
-        solve_with(K, L, b, u, c, e))
+        solve_with(K, L, b, 1, u, c, e))
         goto done;
     if (perm) {
         if (!(*perm = kt_calloc(n ? n : 1, sizeof(int), e))) goto done;
@@ -118,13 +129,12 @@ static int solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned
         else
             for (size_t i = 0; i < n; i++) (*perm)[i] = (int)i;
     }
-    for (int k = 0; k < nmore; k++) { /* homogeneous Dirichlet data: the fixed rows are 0 */
-        memset(b, 0, n * sizeof(double));
-        if (more(ctx, k, u, b, e)) goto done;
-        for (size_t i = 0; fixed && i < n; i++)
-            if (fixed[i]) b[i] = 0;
-        if (solve_with(K, L, b, umore + k * n, c, e)) goto done;
-    }
+    if (nmore <= 0) goto done;
+    memset(b, 0, n * (size_t)nmore * sizeof(double));
+    if (more(ctx, u, b, e)) goto done;
+    for (size_t i = 0; fixed && i < n * (size_t)nmore; i++) /* homogeneous Dirichlet data */
+        if (fixed[i % n]) b[i] = 0;
+    solve_with(K, L, b, nmore, umore, c, e);
 done:
     free(b);
     if (L) cholmod_free_factor(&L, c);
@@ -134,10 +144,11 @@ done:
 
 int kt_fem_solve_more(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,
                       const double *g, const double *f, double *u, int nmore,
-                      kt_fem_more_rhs more, void *ctx, double *umore, cholmod_common *c,
-                      kt_err *e)
+                      kt_fem_more_rhs more, void *ctx, double *umore, int **perm,
+                      cholmod_common *c, kt_err *e)
 {
-    return solve_more(m, mats, fixed, g, f, u, nmore, more, ctx, umore, NULL, c, e);
+    if (perm) *perm = NULL;
+    return solve_more(m, mats, fixed, g, f, u, nmore, more, ctx, umore, perm, c, e);
 }
 
 int kt_fem_solve(const kt_mesh *m, const kt_materials *mats, const unsigned char *fixed,

@@ -139,7 +139,7 @@ static int prestress(const kt_mesh *m, const kt_fem_problem *fp, kt_physics *ph,
     c->nmethods = 1;
     c->method[0].ordering = CHOLMOD_METIS;
     if (!e->code &&
-        (S && S->nd ? kt_fem_sens_prestress(S, m, fp, &mm, f, u, c, e)
+        (S && S->nd ? kt_fem_sens_prestress(S, m, fp, &mm, f, u, &ph->perm, c, e)
                     : kt_fem_solve_order(m, &mm, fp->fixed, fp->g, f, u, &ph->perm, c, e)) == KT_OK &&
         kt_fem_stress(m, &mm, u, ph->td.sig, e) == KT_OK) {
         ph->prestressed = 1;

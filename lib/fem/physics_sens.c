@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fem_int.h"
+
 #define MMHG_MPA 133.322387415e-6 /* MPa per mmHg */
 
 static const kt_region_mat *first_fibre(const kt_scene *s)
@@ -160,75 +162,152 @@ static int sens_tensors(const kt_scene *s, const kt_mesh *m, const kt_physics *p
     return KT_OK;
 }
 
-/* The prestress solve's extra right-hand sides: df_p/dq - dK0/dq u0 for derivative k. */
+/* The prestress solve's extra right-hand sides df_p/dq - dK0/dq u0 of every derivative, from
+ * one pass over the tets: for a modulus, dK0/dq u0 = int B^T dC eps(u0), whose stress
+ * dC eps(u0) is also dsig0/dq's first term (kept in d->td.sig); for iop, the pressures. */
 typedef struct pre_ctx {
-    const kt_fem_sens *S;
+    kt_fem_sens *S;
     const kt_mesh *m;
     const kt_materials *mats; /* the prestress solve's (material stiffness only) */
     const kt_fem_problem *fp;
 } pre_ctx;
 
-static int pre_rhs(void *ctx, int k, const double *u, double *b, kt_err *e)
+/* Quadrature point q's strain matrix B (6 x 3nv) and weight w det J. */
+static int point_B(const kt_mesh *m, const double *x, const kt_tet_rule *rule, int q, double *B,
+                   double *w, kt_err *e)
+{
+    int nv = kt_tet_nv(m->order);
+    double g[10][3], det;
+    if (kt_fem_point_gradients(nv, x, rule, q, g, &det, e)) return e->code;
+    kt_fem_strain_matrix(nv, g, NULL, B);
+    *w = rule->w[q] * det;
+    return KT_OK;
+}
+
+/* eps (6) := B ue (ld = 3nv values). */
+static void strain6(const double *B, int ld, const double *ue, double *eps)
+{
+    for (int p = 0; p < 6; p++) {
+        eps[p] = 0;
+        for (int r = 0; r < ld; r++) eps[p] += B[p * ld + r] * ue[r];
+    }
+}
+
+/* s (6) := C eps. */
+static void stress6(const double *C, const double *eps, double *s)
+{
+    for (int p = 0; p < 6; p++) {
+        s[p] = 0;
+        for (int k = 0; k < 6; k++) s[p] += C[6 * p + k] * eps[k];
+    }
+}
+
+/* Tet el's share: the moduli's dC eps(u0) into their td.sig, -int B^T dC eps(u0) into B. */
+static int pre_tet(pre_ctx *P, int el, const double *u, double *b, kt_err *e)
+{
+    const kt_mesh *m = P->m;
+    int nv = kt_tet_nv(m->order), ld = 3 * nv, on = 0;
+    size_t n = 3 * (size_t)m->nn;
+    for (int k = 0; k < P->S->nd; k++)
+        on |= P->S->d[k].q != KT_UQ_IOP && any_nonzero(P->S->d[k].td.C + 36 * (size_t)el, 36);
+    if (!on) return KT_OK;
+    double x[30], ue[30], Bm[6 * 30], eps[6], w;
+    const int *t = m->tet + (size_t)el * nv;
+    kt_fem_gather_x(m, el, x);
+    for (int a = 0; a < nv; a++) memcpy(ue + 3 * a, u + 3 * (size_t)t[a], 3 * sizeof(double));
+    kt_tet_rule rule = kt_fem_rule(m->order, x);
+    for (int q = 0; q < rule.n; q++) {
+        if (point_B(m, x, &rule, q, Bm, &w, e)) return e->code;
+        strain6(Bm, ld, ue, eps);
+        for (int k = 0; k < P->S->nd; k++) {
+            kt_fem_dparam *d = &P->S->d[k];
+            const double *dC = d->td.C + 36 * (size_t)el;
+            if (d->q == KT_UQ_IOP || !any_nonzero(dC, 36)) continue;
+            double *sg = d->td.sig + ((size_t)el * KT_FEM_NQ + q) * 6;
+            stress6(dC, eps, sg);
+            for (int r = 0; r < ld; r++) {
+                double f = 0;
+                for (int p = 0; p < 6; p++) f += Bm[p * ld + r] * sg[p];
+                b[k * n + 3 * (size_t)t[r / 3] + r % 3] -= w * f;
+            }
+        }
+    }
+    return KT_OK;
+}
+
+static int pre_rhs(void *ctx, const double *u, double *b, kt_err *e)
 {
     pre_ctx *P = ctx;
-    const kt_fem_dparam *d = &P->S->d[k];
     const kt_mesh *m = P->m;
-    if (d->q == KT_UQ_IOP) {
-        for (int i = 0; i < P->fp->npress; i++)
-            if (kt_fem_pressure(m, P->fp->press[i].tag, d->dpress[i], b, e)) return e->code;
-        return KT_OK;
+    size_t n = 3 * (size_t)m->nn;
+    for (int k = 0; k < P->S->nd; k++) {
+        const kt_fem_dparam *d = &P->S->d[k];
+        for (int i = 0; d->q == KT_UQ_IOP && i < P->fp->npress; i++)
+            if (kt_fem_pressure(m, P->fp->press[i].tag, d->dpress[i], b + k * n, e))
+                return e->code;
     }
-    kt_fem_tetdata td = {m->ne, d->td.C, NULL, NULL};
-    kt_materials dm = *P->mats;
-    dm.td = &td;
-    int nv = kt_tet_nv(m->order), ld = 3 * nv;
-    double Ke[900];
-    for (int t = 0; t < m->ne; t++) {
-        if (!any_nonzero(d->td.C + 36 * (size_t)t, 36)) continue;
-        if (kt_fem_element(m, &dm, t, Ke, e)) return e->code;
-        const int *tv = m->tet + (size_t)t * nv;
-        for (int i = 0; i < ld; i++) {
-            double s = 0;
-            for (int j = 0; j < ld; j++) s += Ke[i * ld + j] * u[3 * (size_t)tv[j / 3] + j % 3];
-            b[3 * (size_t)tv[i / 3] + i % 3] -= s;
+    for (int el = 0; el < m->ne; el++)
+        if (pre_tet(P, el, u, b, e)) return e->code;
+    return KT_OK;
+}
+
+/* d->td.sig += C eps(du0/dq) for every derivative (C: mm's material stiffness), one pass. */
+static int pre_stress(kt_fem_sens *S, const kt_mesh *m, const kt_materials *mm, const double *du,
+                      kt_err *e)
+{
+    int nv = kt_tet_nv(m->order), ld = 3 * nv, nd = S->nd;
+    size_t n = 3 * (size_t)m->nn;
+    double x[30], ue[30 * KT_FEM_MULTI_MAX], C[36], Bm[6 * 30], eps[6], sg[6], w;
+    if (nd > KT_FEM_MULTI_MAX)
+        return kt_fail(e, KT_ERUN, "%d derivative quantities (at most %d)", nd, KT_FEM_MULTI_MAX);
+    for (int el = 0; el < m->ne; el++) {
+        const int *t = m->tet + (size_t)el * nv;
+        kt_fem_gather_x(m, el, x);
+        if (kt_fem_element_C(m, mm, el, C, e)) return e->code;
+        for (int k = 0; k < nd; k++)
+            for (int a = 0; a < nv; a++)
+                memcpy(ue + k * ld + 3 * a, du + k * n + 3 * (size_t)t[a], 3 * sizeof(double));
+        kt_tet_rule rule = kt_fem_rule(m->order, x);
+        for (int q = 0; q < rule.n; q++) {
+            if (point_B(m, x, &rule, q, Bm, &w, e)) return e->code;
+            for (int k = 0; k < nd; k++) {
+                strain6(Bm, ld, ue + k * ld, eps);
+                stress6(C, eps, sg);
+                double *d = S->d[k].td.sig + ((size_t)el * KT_FEM_NQ + q) * 6;
+                for (int p = 0; p < 6; p++) d[p] += sg[p];
+            }
         }
     }
     return KT_OK;
 }
 
 /* The prestress and its derivatives: u0 = K0^-1 f_p (Dirichlet g), du0/dq from the same
- * factorization, dsig0/dq = dC eps(u0) + C eps(du0/dq); dpface of iop. */
+ * factorization (one substitution for all), dsig0/dq = dC/dq eps(u0) + C eps(du0/dq); dpface
+ * of iop. */
 int kt_fem_sens_prestress(kt_fem_sens *S, const kt_mesh *m, const kt_fem_problem *fp,
-                          const kt_materials *mm, const double *f, double *u,
+                          const kt_materials *mm, const double *f, double *u, int **perm,
                           cholmod_common *c, kt_err *e)
 {
     size_t n = 3 * (size_t)m->nn, ns = (size_t)(m->ne ? m->ne : 1) * KT_FEM_NQ * 6;
     double *du = kt_calloc(n * (size_t)(S->nd ? S->nd : 1), sizeof(double), e);
-    double *tmp = kt_calloc(ns, sizeof(double), e);
+    for (int k = 0; k < S->nd && !e->code; k++)
+        S->d[k].td.sig = kt_calloc(ns, sizeof(double), e);
     if (e->code) goto done;
     pre_ctx P = {S, m, mm, fp};
-    if (kt_fem_solve_more(m, mm, fp->fixed, fp->g, f, u, S->nd, pre_rhs, &P, du, c, e)) goto done;
+    if (kt_fem_solve_more(m, mm, fp->fixed, fp->g, f, u, S->nd, pre_rhs, &P, du, perm, c, e) ||
+        pre_stress(S, m, mm, du, e))
+        goto done;
     for (int k = 0; k < S->nd; k++) {
         kt_fem_dparam *d = &S->d[k];
-        if (!(d->td.sig = kt_calloc(ns, sizeof(double), e))) goto done;
-        if (kt_fem_stress(m, mm, du + k * n, d->td.sig, e)) goto done;
-        if (d->q != KT_UQ_IOP) {
-            kt_fem_tetdata td = {m->ne, d->td.C, NULL, NULL};
-            kt_materials dm = *mm;
-            dm.td = &td;
-            if (kt_fem_stress(m, &dm, u, tmp, e)) goto done;
-            for (size_t i = 0; i < ns; i++) d->td.sig[i] += tmp[i];
-        } else {
-            size_t np = 4 * (size_t)(m->ne ? m->ne : 1);
-            if (!(d->td.pface = kt_calloc(np, sizeof(double), e))) goto done;
-            for (int i = 0; i < fp->npress; i++)
-                if (kt_fem_pressure_faces(m, fp->press[i].tag, d->dpress[i], d->td.pface, e))
-                    goto done;
-        }
+        if (d->q != KT_UQ_IOP) continue;
+        size_t np = 4 * (size_t)(m->ne ? m->ne : 1);
+        if (!(d->td.pface = kt_calloc(np, sizeof(double), e))) goto done;
+        for (int i = 0; i < fp->npress; i++)
+            if (kt_fem_pressure_faces(m, fp->press[i].tag, d->dpress[i], d->td.pface, e))
+                goto done;
     }
 done:
     free(du);
-    free(tmp);
     return e->code;
 }
 
@@ -290,15 +369,19 @@ typedef struct fresh_ctx {
     const double *u;
 } fresh_ctx;
 
-static int fresh_rhs(void *ctx, int k, const double *u0, double *b, kt_err *e)
+static int fresh_rhs(void *ctx, const double *u0, double *b, kt_err *e)
 {
     (void)u0; /* the zero solution of the set-up solve */
     fresh_ctx *P = ctx;
-    const kt_fem_dparam *d = &P->S->d[k];
-    if (kt_fem_sens_loads(P->S, k, P->m, P->mats, b, e)) return e->code;
-    if (d->dK_zero) return KT_OK;
-    kt_materials dm = kt_fem_sens_mats(P->S, k, P->mats);
-    return sub_dK_u(P->m, &dm, d, P->u, b, e);
+    size_t n = 3 * (size_t)P->m->nn;
+    for (int k = 0; k < P->S->nd; k++) {
+        const kt_fem_dparam *d = &P->S->d[k];
+        if (kt_fem_sens_loads(P->S, k, P->m, P->mats, b + k * n, e)) return e->code;
+        if (d->dK_zero) continue;
+        kt_materials dm = kt_fem_sens_mats(P->S, k, P->mats);
+        if (sub_dK_u(P->m, &dm, d, P->u, b + k * n, e)) return e->code;
+    }
+    return KT_OK;
 }
 
 int kt_fem_sens_fresh(const kt_fem_sens *S, const kt_mesh *m, const kt_materials *mats,
@@ -310,7 +393,7 @@ int kt_fem_sens_fresh(const kt_fem_sens *S, const kt_mesh *m, const kt_materials
         cholmod_common c;
         cholmod_start(&c);
         fresh_ctx P = {S, m, mats, u};
-        kt_fem_solve_more(m, mats, fixed, NULL, zero, u0, S->nd, fresh_rhs, &P, du, &c, e);
+        kt_fem_solve_more(m, mats, fixed, NULL, zero, u0, S->nd, fresh_rhs, &P, du, NULL, &c, e);
         cholmod_finish(&c);
     }
     free(zero);

@@ -12,8 +12,8 @@
  *   dsig0/dq = dC/dq eps(u0) + C eps(du0/dq), du0/dq = K0^-1 (df_p/dq - dK0/dq u0),
  * every term linear in its data, so one kt_fem_tetdata per quantity holds dC, dsig0 and
  * dpface, and kt_fem_element / kt_fem_element_release with it give the element's dA/dq and
- * the release's derivative. du0/dq costs one more substitution per quantity with the prestress
- * solve's own factorization (kt_physics_finish_sens). */
+ * the release's derivative. du0/dq costs one more substitution with the prestress solve's own
+ * factorization, every quantity at once (kt_physics_finish_sens). */
 #ifndef KT_SENS_H
 #define KT_SENS_H
 
@@ -68,12 +68,12 @@ int kt_fem_sens_fresh(const kt_fem_sens *S, const kt_mesh *m, const kt_materials
 
 /* For physics.c: the quantities' dC (after the fibre frames, before the prestress), and the
  * prestress solve with its derivatives (u0 into u; mm the material stiffness it solves with,
- * f its loads). */
+ * f its loads; *perm the fill-reducing order it factored with, as kt_fem_solve_order's). */
 int kt_physics_sens_tensors(const kt_scene *s, const kt_mesh *m, const kt_physics *ph,
                             kt_fem_sens *S, kt_err *e);
 void kt_fem_sens_pressures(const kt_fem_problem *fp, kt_fem_sens *S);
 int kt_fem_sens_prestress(kt_fem_sens *S, const kt_mesh *m, const kt_fem_problem *fp,
-                          const kt_materials *mm, const double *f, double *u,
+                          const kt_materials *mm, const double *f, double *u, int **perm,
                           cholmod_common *c, kt_err *e);
 
 #endif

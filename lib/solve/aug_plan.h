@@ -114,8 +114,12 @@ int kt_plan_factor_build_with(kt_plan_factor *F, const kt_edits_plan *p, const k
 void kt_plan_factor_free(kt_plan_factor *F);
 /* A = T^T K T: every entry K(i, j) of the final mesh's lower-stored symmetric stiffness K (and
  * its mirror K(j, i)) handed to put(ctx, v, w, x) for every pair of variables v >= w whose
- * chains (a DOF's node and the node's ancestors, same component) hold i and j. KT_EINPUT when
- * a node is split more than 256 times. */
+ * chains (a DOF's node and the node's ancestors, same component) hold i and j (x 0 when K is a
+ * pattern). KT_EINPUT when a node is split more than KT_PLAN_CHAIN_MAX times. */
+enum { KT_PLAN_CHAIN_MAX = 256 };
+/* The variables DOF i of the final mesh sums (its chain) into v: the count, -1 when the chain
+ * is deeper than KT_PLAN_CHAIN_MAX. */
+int kt_plan_chain(const kt_edits_plan *p, int i, int *v);
 int kt_plan_transform(const kt_edits_plan *p, const cholmod_sparse *K,
                       void (*put)(void *ctx, int v, int w, double x), void *ctx, kt_err *e);
 /* Split every supernode of the symbolic supernodal factor L that holds a column >= nK into
@@ -138,6 +142,14 @@ int kt_plan_split_panels(cholmod_factor *L, int nK, int width, cholmod_common *c
 void kt_plan_forward(const kt_plan_factor *F, double *work, int c0, int c1, double *y);
 void kt_plan_back(const kt_plan_factor *F, const unsigned char *want, double *work, int N,
                   double *y);
+/* The same with nrhs right-hand sides at once, Y interleaved (row q's values at
+ * Y[q nrhs .. q nrhs + nrhs)): one pass over the factor for all of them (BLAS 3 per supernode);
+ * work holds F->maxrow * nrhs values. kt_plan_back_multi takes a simplicial factor too (then
+ * want is ignored: every column). */
+void kt_plan_forward_multi(const kt_plan_factor *F, double *work, int c0, int c1, int nrhs,
+                           double *Y);
+void kt_plan_back_multi(const kt_plan_factor *F, const unsigned char *want, double *work, int N,
+                        int nrhs, double *Y);
 /* Set F->maxrow and F->rows_sorted (kt_plan_factor_build, after the factorization). */
 void kt_plan_subst_init(kt_plan_factor *F);
 

@@ -11,8 +11,6 @@
 
 #include "chol.h"
 
-enum { CHAIN_MAX = 256 };
-
 void kt_plan_factor_free(kt_plan_factor *F)
 {
     if (F->started) {
@@ -82,13 +80,11 @@ static void put(void *ctx, int v, int w, double x)
     }
 }
 
-/* The variables DOF i of the final mesh sums: its node and the node's ancestors, same
- * component. Returns the count, or -1 when the chain is deeper than CHAIN_MAX. */
-static int chain(const kt_edits_plan *p, int i, int *v)
+int kt_plan_chain(const kt_edits_plan *p, int i, int *v)
 {
     int n = 0, c = i % 3;
     for (int a = i / 3; a >= 0; a = p->parent[a]) {
-        if (n == CHAIN_MAX) return -1;
+        if (n == KT_PLAN_CHAIN_MAX) return -1;
         v[n++] = 3 * a + c;
     }
     return n;
@@ -107,20 +103,21 @@ int kt_plan_transform(const kt_edits_plan *p, const cholmod_sparse *K,
                       void (*put)(void *ctx, int v, int w, double x), void *ctx, kt_err *e)
 {
     const int *Kp = K->p, *Ki = K->i, *Knz = K->nz;
-    const double *Kx = K->x;
-    int ci[CHAIN_MAX], cj[CHAIN_MAX];
+    const double *Kx = K->xtype == CHOLMOD_PATTERN ? NULL : K->x;
+    int ci[KT_PLAN_CHAIN_MAX], cj[KT_PLAN_CHAIN_MAX];
     for (int j = 0; j < (int)K->ncol; j++) {
-        int nj = chain(p, j, cj);
+        int nj = kt_plan_chain(p, j, cj);
         if (nj < 0) return kt_fail(e, KT_EINPUT, "node %d is split more than %d times", j / 3 + 1,
-                                   CHAIN_MAX);
+                                   KT_PLAN_CHAIN_MAX);
         int end = K->packed ? Kp[j + 1] : Kp[j] + Knz[j];
         for (int q = Kp[j]; q < end; q++) {
             int i = Ki[q];
             if (i < j) continue; /* lower triangle only */
-            int ni = chain(p, i, ci);
-            if (ni < 0) return kt_fail(e, KT_EINPUT, "a node is split more than %d times", CHAIN_MAX);
-            scatter(put, ctx, ci, ni, cj, nj, Kx[q]);
-            if (i != j) scatter(put, ctx, cj, nj, ci, ni, Kx[q]); /* the mirror entry K(j, i) */
+            int ni = kt_plan_chain(p, i, ci);
+            if (ni < 0) return kt_fail(e, KT_EINPUT, "a node is split more than %d times", KT_PLAN_CHAIN_MAX);
+            double x = Kx ? Kx[q] : 0;
+            scatter(put, ctx, ci, ni, cj, nj, x);
+            if (i != j) scatter(put, ctx, cj, nj, ci, ni, x); /* the mirror entry K(j, i) */
         }
     }
     return KT_OK;

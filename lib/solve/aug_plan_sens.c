@@ -1,4 +1,8 @@
-/* aug_plan_sens.c: the planned method's derivatives (aug_plan_sens.h). */
+/* aug_plan_sens.c: the planned method's derivatives (aug_plan_sens.h). Every quantity is
+ * carried at once: the matrix derivatives share one pattern (T^T K T's, over every variable)
+ * and hold nd values per entry; a step's right-hand sides, products and substitutions run
+ * over interleaved blocks (row i's nd values together), so the factor and the pattern are
+ * read once per step for all quantities. */
 #include "aug_plan_sens.h"
 
 #include <stdlib.h>
@@ -7,21 +11,23 @@
 void kt_plan_sens_free(kt_plan_sens *D)
 {
     if (D->started) {
-        for (int k = 0; k < KT_UQ_N; k++) cholmod_free_sparse(&D->dA[k], &D->c);
+        cholmod_free_sparse(&D->P, &D->c);
         cholmod_finish(&D->c);
     }
-    for (int k = 0; k < KT_UQ_N; k++) free(D->dfe[k]);
+    free(D->dAx);
+    free(D->dfe);
+    free(D->var);
     free(D->r);
     free(D->tf);
     free(D->y);
-    free(D->dv);
-    free(D->b);
     free(D->z);
+    free(D->p1);
+    free(D->work);
     free(D->want);
     memset(D, 0, sizeof *D);
 }
 
-/* The variables' matrix as triplets (lower: v >= w); T NULL only counts. */
+/* The variables' pattern as triplets (lower: v >= w); T NULL only counts. */
 typedef struct tsink {
     cholmod_triplet *T;
     size_t nt;
@@ -29,152 +35,259 @@ typedef struct tsink {
 
 static void tput(void *ctx, int v, int w, double x)
 {
+    (void)x;
     tsink *s = ctx;
     if (s->T) {
         ((int *)s->T->i)[s->nt] = v;
         ((int *)s->T->j)[s->nt] = w;
-        ((double *)s->T->x)[s->nt] = x;
     }
     s->nt++;
 }
 
-static cholmod_sparse *variable_matrix(kt_plan_sens *D, const kt_edits_plan *p,
-                                       const cholmod_sparse *K, kt_err *e)
+/* D->P: the pattern of T^T K T on the final mesh (K's pattern through the chains). */
+static int variable_pattern(kt_plan_sens *D, const kt_edits_plan *p, const kt_mesh *final,
+                            kt_err *e)
 {
+    cholmod_sparse *K = kt_fem_pattern(final, &D->c, e);
+    if (!K) return e->code;
     tsink count = {NULL, 0};
-    if (kt_plan_transform(p, K, tput, &count, e)) return NULL;
-    size_t nt = count.nt;
-    cholmod_triplet *T = cholmod_allocate_triplet(D->nvar, D->nvar, nt ? nt : 1, -1,
-                                                  CHOLMOD_REAL, &D->c);
-    if (!T) {
-        kt_fail(e, KT_ERUN, "out of memory for a matrix derivative");
-        return NULL;
-    }
-    cholmod_sparse *A = NULL;
+    cholmod_triplet *T = NULL;
+    if (kt_plan_transform(p, K, tput, &count, e) == KT_OK &&
+        !(T = cholmod_allocate_triplet(D->nvar, D->nvar, count.nt ? count.nt : 1, -1,
+                                       CHOLMOD_PATTERN, &D->c)))
+        kt_fail(e, KT_ERUN, "out of memory for the derivatives' pattern");
     tsink fill = {T, 0};
-    if (kt_plan_transform(p, K, tput, &fill, e) == KT_OK) {
-        nt = fill.nt;
-        T->nnz = nt;
-        A = cholmod_triplet_to_sparse(T, nt, &D->c);
-        if (!A) kt_fail(e, KT_ERUN, "out of memory for a matrix derivative");
+    if (T && kt_plan_transform(p, K, tput, &fill, e) == KT_OK) {
+        T->nnz = fill.nt;
+        if (!(D->P = cholmod_triplet_to_sparse(T, fill.nt, &D->c)))
+            kt_fail(e, KT_ERUN, "out of memory for the derivatives' pattern");
     }
     cholmod_free_triplet(&T, &D->c);
-    return A;
+    cholmod_free_sparse(&K, &D->c);
+    return e->code;
+}
+
+/* Position in D->P of the first row of node block n (rows 3n.. 3n+2, those >= w) in column w:
+ * the pattern holds whole node blocks (K's, through same-component chains), so row v of the
+ * block sits at the result + v - max(3n, w). -1: no such block. */
+static int block_at(const cholmod_sparse *P, int n, int w)
+{
+    const int *Pp = P->p, *Pi = P->i;
+    int lo = Pp[w], hi = Pp[w + 1], r0 = 3 * n > w ? 3 * n : w;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (Pi[mid] < r0) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo < Pp[w + 1] && Pi[lo] == r0 ? lo : -1;
+}
+
+/* dAx(v, w) += x (nd values) for the rows v of node block nv >= w, column w: x + nd (v - v0). */
+static int add_block(kt_plan_sens *D, int nb, int w, int r0, int r1, const double *x, kt_err *e)
+{
+    int q = block_at(D->P, nb, w), v0 = 3 * nb > w ? 3 * nb : w, nd = D->nd;
+    const int *Pi = D->P->i;
+    for (int r = r0; r < r1; r++) {
+        int v = 3 * nb + r;
+        if (v < w) continue;
+        int at = q + v - v0;
+        if (q < 0 || Pi[at] != v)
+            return kt_fail(e, KT_ERUN, "derivative entry (%d, %d) outside the plan's pattern", v, w);
+        double *d = D->dAx + (size_t)nd * at;
+        for (int k = 0; k < nd; k++) d[k] += x[(r - r0) * nd + k];
+    }
+    return KT_OK;
+}
+
+/* One element's nd matrices (Ke + k ld^2, ld = 3 nv) into dAx as kt_plan_transform takes the
+ * assembled K: every lower entry K(I, J) of tet t's nodes, and its mirror, through the
+ * chains; ch[a] holds 3x node a's chain (nch[a] nodes). */
+static int scatter(kt_plan_sens *D, const int *t, int nv, const int (*ch)[KT_PLAN_CHAIN_MAX],
+                   const int *nch, const double *Ke, kt_err *e)
+{
+    int ld = 3 * nv, nd = D->nd;
+    double x[3 * KT_FEM_MULTI_MAX], xm[3 * KT_FEM_MULTI_MAX];
+    for (int b = 0; b < nv; b++)
+        for (int a = 0; a < nv; a++) {
+            if (t[a] < t[b]) continue;
+            int same = t[a] == t[b];
+            for (int c = 0; c < 3; c++) {
+                /* column c of the node pair: rows r (K(3t[a]+r, 3t[b]+c)), and the mirror
+                 * K(3t[b]+c, 3t[a]+r) as column r's row c (off the diagonal entry) */
+                int r0 = same ? c : 0;
+                for (int r = r0; r < 3; r++)
+                    for (int k = 0; k < nd; k++)
+                        x[(r - r0) * nd + k] = Ke[(size_t)k * ld * ld + (3 * a + r) * ld + 3 * b + c];
+                for (int al = 0; al < nch[a]; al++)
+                    for (int be = 0; be < nch[b]; be++) {
+                        int na = ch[a][al] / 3, nb = ch[b][be] / 3;
+                        if (add_block(D, na, 3 * nb + c, r0, 3, x, e)) return e->code;
+                        for (int r = r0; r < 3; r++) { /* the mirror: (3nb + c, 3na + r) */
+                            if (same && r == c) continue;
+                            for (int k = 0; k < nd; k++) xm[k] = x[(r - r0) * nd + k];
+                            if (add_block(D, nb, 3 * na + r, c, c + 1, xm, e)) return e->code;
+                        }
+                    }
+            }
+        }
+    return KT_OK;
+}
+
+/* Every dA/dq into D->dAx and the release forces into D->dfe: one pass over the final mesh's
+ * tets (a tet's data and forces do not change with the cut). */
+static int element_pass(kt_plan_sens *D, const kt_edits_plan *p, const kt_mesh *final,
+                        const kt_materials *mats, kt_err *e)
+{
+    const kt_fem_sens *S = D->S;
+    int nd = D->nd, nv = kt_tet_nv(final->order), ld = 3 * nv, sig = 0, nch[10];
+    const kt_fem_tetdata *td[KT_FEM_MULTI_MAX];
+    for (int k = 0; k < nd; k++) {
+        td[k] = &S->d[k].td;
+        sig |= td[k]->sig != NULL;
+    }
+    size_t nnz = ((const int *)D->P->p)[D->P->ncol];
+    if (!(D->dAx = kt_calloc(nnz * nd, sizeof(double), e))) return e->code;
+    if (sig && !(D->dfe = kt_calloc((size_t)final->ne * ld * nd, sizeof(double), e)))
+        return e->code;
+    double *Ke = kt_calloc((size_t)ld * ld * nd, sizeof(double), e), fe[30 * KT_FEM_MULTI_MAX];
+    int(*ch)[KT_PLAN_CHAIN_MAX] = kt_calloc(10, sizeof *ch, e);
+    for (int el = 0; el < final->ne && !e->code; el++) {
+        const int *t = final->tet + (size_t)el * nv;
+        for (int a = 0; a < nv && !e->code; a++)
+            if ((nch[a] = kt_plan_chain(p, 3 * t[a], ch[a])) < 0)
+                kt_fail(e, KT_EINPUT, "node %d is split more than %d times", t[a] + 1,
+                        KT_PLAN_CHAIN_MAX);
+        if (e->code || kt_fem_element_multi(final, mats, td, nd, el, Ke, sig ? fe : NULL, e) ||
+            scatter(D, t, nv, (const int(*)[KT_PLAN_CHAIN_MAX])ch, nch, Ke, e))
+            break;
+        for (int r = 0; sig && r < ld; r++)
+            for (int k = 0; k < nd; k++) D->dfe[((size_t)el * ld + r) * nd + k] = fe[k * ld + r];
+    }
+    free(Ke);
+    free(ch);
+    return e->code;
 }
 
 int kt_plan_sens_init(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan *p,
-                      const kt_mesh *final, const kt_materials *mats, kt_err *e)
+                      const kt_plan_factor *F, const kt_mesh *final, const kt_materials *mats,
+                      kt_err *e)
 {
     double t0 = kt_now();
     memset(D, 0, sizeof *D);
     D->S = S;
+    D->nd = S->nd;
     D->nvar = 3 * p->nn;
     cholmod_start(&D->c);
     D->started = 1;
-    size_t n = (size_t)D->nvar;
-    D->r = kt_calloc(n, sizeof(double), e);
-    D->tf = kt_calloc(n, sizeof(double), e);
-    D->y = kt_calloc(n, sizeof(double), e);
-    D->dv = kt_calloc(n, sizeof(double), e);
-    D->b = kt_calloc(n, sizeof(double), e);
-    D->z = kt_calloc(n, sizeof(double), e);
+    if (D->nd > KT_FEM_MULTI_MAX)
+        return kt_fail(e, KT_ERUN, "%d derivative quantities (at most %d)", D->nd,
+                       KT_FEM_MULTI_MAX);
+    size_t n = (size_t)D->nvar, nd = (size_t)(D->nd ? D->nd : 1), nf = (size_t)F->nfree + 1;
+    D->var = kt_calloc(nf, sizeof(int), e);
+    D->r = kt_calloc(n * nd, sizeof(double), e);
+    D->tf = kt_calloc(n * nd, sizeof(double), e);
+    D->y = kt_calloc(n * nd, sizeof(double), e);
+    D->z = kt_calloc(nf * nd, sizeof(double), e);
+    D->p1 = kt_calloc(n, sizeof(double), e);
+    D->work = kt_calloc((size_t)F->maxrow * nd, sizeof(double), e);
     if (e->code) return e->code;
-    const kt_mesh *m0 = final;
-    int nv = kt_tet_nv(m0->order);
-    size_t ld = 3 * (size_t)nv;
-    for (int k = 0; k < S->nd; k++) {
-        kt_materials dm = kt_fem_sens_mats(S, k, mats);
-        if (!S->d[k].dK_zero) {
-            cholmod_sparse *K = kt_fem_assemble(final, &dm, NULL, &D->c, e);
-            if (!K) return e->code;
-            D->dA[k] = variable_matrix(D, p, K, e);
-            cholmod_free_sparse(&K, &D->c);
-            if (!D->dA[k]) return e->code;
-        }
-        if (S->d[k].td.sig) { /* a tet's forces do not change with the cut: computed once */
-            if (!(D->dfe[k] = kt_calloc((size_t)m0->ne * ld, sizeof(double), e))) return e->code;
-            for (int el = 0; el < m0->ne; el++)
-                if (kt_fem_element_release(m0, &dm, el, D->dfe[k] + el * ld, e)) return e->code;
-        }
-    }
+    for (int v = 0; v < D->nvar; v++)
+        if (F->pos[v] >= 0) D->var[F->pos[v]] = v;
+    if (D->nd && (variable_pattern(D, p, final, e) || element_pass(D, p, final, mats, e)))
+        return e->code;
     D->t_setup = kt_now() - t0;
     return KT_OK;
 }
 
-/* y := A v on the variables present (< n), A lower-stored symmetric. */
-static void symv(const cholmod_sparse *A, int n, const double *v, double *y)
+/* D->tf (n x nd) := T^T df/dq on the cut mesh: pressures (the step's pressure view), the
+ * release of dsig0/dq, summed through the chains. */
+static int loads(kt_plan_sens *D, kt_plan_state *s, const kt_edits_plan *p, kt_err *e)
 {
-    const int *Ap = A->p, *Ai = A->i;
-    const double *Ax = A->x;
-    memset(y, 0, (size_t)n * sizeof(double));
-    for (int j = 0; j < n; j++)
-        for (int q = Ap[j]; q < Ap[j + 1]; q++) {
-            int i = Ai[q];
-            if (i >= n) break; /* row indices sorted */
-            y[i] += Ax[q] * v[j];
-            if (i != j) y[j] += Ax[q] * v[i];
+    const kt_fem_sens *S = D->S;
+    const kt_mesh *m = &s->mesh;
+    int nd = D->nd, n = 3 * m->nn, nv = kt_tet_nv(m->order), ld = 3 * nv;
+    memset(D->r, 0, (size_t)n * nd * sizeof(double));
+    for (int k = 0; k < nd; k++) {
+        const kt_fem_dparam *d = &S->d[k];
+        int any = 0;
+        memset(D->p1, 0, (size_t)n * sizeof(double));
+        for (int i = 0; i < S->npress; i++)
+            if (d->dpress[i] != 0) {
+                any = 1;
+                if (kt_fem_pressure(&s->pview, S->ptag[i], d->dpress[i], D->p1, e)) return e->code;
+            }
+        for (int x = 0; any && x < n; x++) D->r[(size_t)x * nd + k] += D->p1[x];
+    }
+    for (int el = 0; D->dfe && el < m->ne; el++) {
+        const int *t = m->tet + (size_t)el * nv;
+        const double *fe = D->dfe + (size_t)el * ld * nd;
+        for (int a = 0; a < nv; a++)
+            for (int c = 0; c < 3; c++) {
+                double *r = D->r + (3 * (size_t)t[a] + c) * nd;
+                const double *f = fe + (size_t)(3 * a + c) * nd;
+                for (int k = 0; k < nd; k++) r[k] += f[k];
+            }
+    }
+    memset(D->tf, 0, (size_t)n * nd * sizeof(double));
+    for (int i = 0; i < n; i++)
+        for (int a = i / 3; a >= 0; a = p->parent[a]) {
+            double *t = D->tf + (3 * (size_t)a + i % 3) * nd;
+            const double *r = D->r + (size_t)i * nd;
+            for (int k = 0; k < nd; k++) t[k] += r[k];
         }
+    return KT_OK;
 }
 
-/* z := A_k^-1 z on the first N positions (L's numbering), rows >= N zero. */
-static int substitute(kt_plan_sens *D, kt_plan_state *s, const kt_plan_factor *F, int N,
-                      double *z, kt_err *e)
+/* D->y (n x nd) := (dA/dq) v for every quantity, on the variables present (< n). */
+static void product(kt_plan_sens *D, int n, const double *v)
 {
-    kt_plan_forward(F, s->rwork, 0, N, z);
-    memset(z + N, 0, (size_t)(F->nfree - N) * sizeof(double));
-    if (F->L->is_super) {
-        kt_plan_back(F, D->want, s->rwork, N, z);
-        return KT_OK;
-    }
-    cholmod_dense Z = {(size_t)F->nfree, 1, (size_t)F->nfree, (size_t)F->nfree, z, NULL,
-                       CHOLMOD_REAL, CHOLMOD_DOUBLE};
-    cholmod_dense *X = cholmod_solve(F->L->is_ll ? CHOLMOD_Lt : CHOLMOD_DLt, F->L, &Z, &D->c);
-    if (!X) return kt_fail(e, KT_ERUN, "CHOLMOD solve failed (status %d)", D->c.status);
-    memcpy(z, X->x, (size_t)F->nfree * sizeof(double));
-    cholmod_free_dense(&X, &D->c);
-    return KT_OK;
+    const int *Pp = D->P->p, *Pi = D->P->i;
+    int nd = D->nd;
+    double *y = D->y;
+    memset(y, 0, (size_t)n * nd * sizeof(double));
+    for (int j = 0; j < n; j++)
+        for (int q = Pp[j]; q < Pp[j + 1]; q++) {
+            int i = Pi[q];
+            if (i >= n) break; /* row indices sorted */
+            const double *x = D->dAx + (size_t)nd * q;
+            double *yi = y + (size_t)i * nd, *yj = y + (size_t)j * nd;
+            for (int k = 0; k < nd; k++) yi[k] += x[k] * v[j];
+            if (i != j)
+                for (int k = 0; k < nd; k++) yj[k] += x[k] * v[i];
+        }
 }
 
 int kt_plan_sens_solve(kt_plan_sens *D, kt_plan_state *s, const kt_edits_plan *p,
                        const kt_plan_factor *F, double *du, kt_err *e)
 {
     double t0 = kt_now();
-    const kt_fem_sens *S = D->S;
-    const kt_mesh *m = &s->mesh;
-    int nn = m->nn, n = 3 * nn, N = F->nfree_at[s->step], nv = kt_tet_nv(m->order);
+    int nd = D->nd, nn = s->mesh.nn, n = 3 * nn, N = F->nfree_at[s->step];
+    if (nd == 0) return KT_OK;
     const int *Perm = F->L->Perm;
-    for (int k = 0; k < S->nd; k++) {
-        const kt_fem_dparam *d = &S->d[k];
-        /* df/dq on the cut mesh: pressures (the step's pressure view), the release */
-        memset(D->r, 0, (size_t)n * sizeof(double));
-        for (int i = 0; i < S->npress; i++)
-            if (d->dpress[i] != 0 && kt_fem_pressure(&s->pview, S->ptag[i], d->dpress[i], D->r, e))
-                return e->code;
-        if (D->dfe[k])
-            for (int el = 0; el < m->ne; el++) {
-                const int *t = m->tet + (size_t)el * nv;
-                const double *fe = D->dfe[k] + (size_t)el * 3 * nv;
-                for (int a = 0; a < nv; a++)
-                    for (int c = 0; c < 3; c++) D->r[3 * (size_t)t[a] + c] += fe[3 * a + c];
-            }
-        /* T^T df/dq - (dA/dq)_k v on the free variables, into L's numbering */
-        memset(D->tf, 0, (size_t)n * sizeof(double));
-        for (int i = 0; i < n; i++)
-            for (int a = i / 3; a >= 0; a = p->parent[a]) D->tf[3 * a + i % 3] += D->r[i];
-        if (D->dA[k]) symv(D->dA[k], n, s->v, D->y);
-        else memset(D->y, 0, (size_t)n * sizeof(double));
-        memset(D->b, 0, (size_t)F->nfree * sizeof(double));
-        for (int v = 0; v < n; v++)
-            if (F->pos[v] >= 0) D->b[F->pos[v]] = D->tf[v] - D->y[v];
-        for (int q = 0; q < F->nfree; q++) D->z[q] = q < N ? D->b[Perm[q]] : 0;
-        if (substitute(D, s, F, N, D->z, e)) return e->code;
-        for (int q = 0; q < F->nfree; q++) D->b[Perm[q]] = D->z[q];
-        /* dv (constrained variables: their values do not depend on q), du = T dv */
+    if (loads(D, s, p, e)) return e->code;
+    product(D, n, s->v);
+    /* T^T df/dq - (dA/dq)_k v on the free variables, into L's numbering */
+    memset(D->z, 0, (size_t)F->nfree * nd * sizeof(double));
+    for (int q = 0; q < N; q++) {
+        size_t v = (size_t)D->var[Perm[q]] * nd;
+        for (int k = 0; k < nd; k++) D->z[(size_t)q * nd + k] = D->tf[v + k] - D->y[v + k];
+    }
+    kt_plan_forward_multi(F, D->work, 0, N, nd, D->z);
+    memset(D->z + (size_t)N * nd, 0, (size_t)(F->nfree - N) * nd * sizeof(double));
+    kt_plan_back_multi(F, D->want, D->work, N, nd, D->z);
+    /* dv (constrained variables: their values do not depend on q), du = T dv */
+    double *dv = D->y;
+    memset(dv, 0, (size_t)n * nd * sizeof(double));
+    for (int q = 0; q < F->nfree; q++) {
+        int v = D->var[Perm[q]];
+        if (v < n) memcpy(dv + (size_t)v * nd, D->z + (size_t)q * nd, nd * sizeof(double));
+    }
+    for (int k = 0; k < nd; k++) {
         double *o = du + (size_t)k * n;
-        for (int v = 0; v < n; v++) D->dv[v] = F->pos[v] >= 0 ? D->b[F->pos[v]] : 0;
         for (int a = 0; a < nn; a++)
             for (int c = 0; c < 3; c++)
-                o[3 * a + c] = D->dv[3 * a + c] + (p->parent[a] >= 0 ? o[3 * p->parent[a] + c] : 0);
+                o[3 * a + c] = dv[(3 * (size_t)a + c) * nd + k] +
+                               (p->parent[a] >= 0 ? o[3 * p->parent[a] + c] : 0);
     }
     D->t_steps += kt_now() - t0;
     return KT_OK;

@@ -3,8 +3,9 @@
  *   A_k dv/dq = T^T (df/dq) - (dA/dq)_k v,
  * with dA/dq = T^T dK_final/dq T assembled once on the final cut mesh in the plan's variables:
  * its leading principal block is step k's (as A_k is A's), so a step's matrix derivative is
- * a product with the leading block, and its solve is one more forward and back substitution
- * with the plan's factor (kt_plan_forward / kt_plan_back). The forward substitution of a
+ * a product with the leading block, and its solve one more forward and back substitution
+ * with the plan's factor, every quantity in the same pass (kt_plan_forward_multi /
+ * kt_plan_back_multi). The forward substitution of a
  * derivative starts from column 0 every step: its right-hand side holds dA v, and v changes
  * in every row from one step to the next, so there is no consumed prefix to continue. */
 #ifndef KT_AUG_PLAN_SENS_H
@@ -16,26 +17,35 @@
 typedef struct kt_plan_sens {
     const kt_fem_sens *S;
     int nvar;                        /* 3 nn of the final mesh */
+    int nd;                          /* S->nd: the quantities, solved together */
     cholmod_common c;
     int started;
-    cholmod_sparse *dA[KT_UQ_N];     /* T^T dK/dq T over every variable, lower triangle, in
-                                        variable numbering; NULL when dA/dq = 0 */
-    double *dfe[KT_UQ_N];            /* ne x 3 nv: each tet's release forces of dsig0/dq
-                                        (NULL without prestress) */
-    double *r, *tf, *y, *dv;         /* 3 nn (final) scratch */
-    double *b, *z;                   /* nfree scratch: positions, L's numbering */
+    cholmod_sparse *P;               /* the pattern of T^T K T over every variable (lower,
+                                        variable numbering, sorted rows) */
+    double *dAx;                     /* nnz(P) x nd: dA/dq of quantity k at entry p of P in
+                                        dAx[nd p + k] (zeros where dA/dq = 0) */
+    double *dfe;                     /* ne x 3 nv x nd: each tet's release forces of dsig0/dq
+                                        (NULL without prestress), interleaved as dAx */
+    int *var;                        /* nfree: the variable at each free position */
+    double *r, *tf, *y;              /* 3 nn (final) x nd scratch, interleaved */
+    double *z;                       /* nfree x nd: L's numbering, interleaved */
+    double *p1;                      /* 3 nn: one pressure load */
+    double *work;                    /* F->maxrow x nd: the substitutions' */
     unsigned char *want;             /* NULL, or the supernodes the output set needs (owned) */
     double t_setup, t_steps;         /* s */
 } kt_plan_sens;
 
 /* Set up the derivatives of S for plan p factored as F (final: the final cut mesh, mats: the
- * tangent's materials). */
+ * tangent's materials): the pattern once, then one element pass gives every dA/dq into it
+ * (kt_fem_element_multi, scattered through the variables' chains). */
 int kt_plan_sens_init(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan *p,
-                      const kt_mesh *final, const kt_materials *mats, kt_err *e);
+                      const kt_plan_factor *F, const kt_mesh *final, const kt_materials *mats,
+                      kt_err *e);
 void kt_plan_sens_free(kt_plan_sens *D);
 /* The derivative fields of the step state s has just solved (kt_plan_solve, unrestricted:
  * s->v holds every variable) into du (S->nd x 3 nn of the cut mesh); with D->want valid on
- * the output set's nodes only. */
+ * the output set's nodes only. Every quantity at once: one product with the dA/dq, one
+ * forward and one back substitution with nd right-hand sides (kt_plan_forward_multi). */
 int kt_plan_sens_solve(kt_plan_sens *D, kt_plan_state *s, const kt_edits_plan *p,
                        const kt_plan_factor *F, double *du, kt_err *e);
 

@@ -107,3 +107,111 @@ void kt_plan_back(const kt_plan_factor *F, const unsigned char *want, double *wo
         cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, nc, X, nsrow, top, 1);
     }
 }
+
+/* ---------------------------------------------- several right-hand sides at once (BLAS 3) */
+
+/* Simplicial, nrhs interleaved columns: columns c0..c1-1 of the forward substitution. */
+static void forward_simplicial_multi(const cholmod_factor *L, int c0, int c1, int nrhs,
+                                     double *Y)
+{
+    const int *Lp = L->p, *Li = L->i, *Lnz = L->nz;
+    const double *Lx = L->x;
+    for (int j = c0; j < c1; j++) {
+        int p0 = Lp[j], p1 = Lp[j] + Lnz[j];
+        double *yj = Y + (size_t)j * nrhs;
+        if (L->is_ll)
+            for (int k = 0; k < nrhs; k++) yj[k] /= Lx[p0];
+        for (int p = p0 + 1; p < p1; p++) {
+            double *yi = Y + (size_t)Li[p] * nrhs;
+            for (int k = 0; k < nrhs; k++) yi[k] -= Lx[p] * yj[k];
+        }
+    }
+}
+
+/* Simplicial: Y[0..N) := L^-T (LL^T) or L^-T D^-1 (LDL^T) of it, rows >= N zero. */
+static void back_simplicial_multi(const cholmod_factor *L, int N, int nrhs, double *Y)
+{
+    const int *Lp = L->p, *Li = L->i, *Lnz = L->nz;
+    const double *Lx = L->x;
+    for (int j = N - 1; j >= 0; j--) {
+        int p0 = Lp[j], p1 = Lp[j] + Lnz[j];
+        double *yj = Y + (size_t)j * nrhs;
+        if (!L->is_ll)
+            for (int k = 0; k < nrhs; k++) yj[k] /= Lx[p0];
+        for (int p = p0 + 1; p < p1; p++) {
+            const double *yi = Y + (size_t)Li[p] * nrhs;
+            for (int k = 0; k < nrhs; k++) yj[k] -= Lx[p] * yi[k];
+        }
+        if (L->is_ll)
+            for (int k = 0; k < nrhs; k++) yj[k] /= Lx[p0];
+    }
+}
+
+/* Row-major blocks of nrhs values are column-major nrhs x rows matrices: the supernode's
+ * triangle and rectangle apply from the right (Y^T L^T = B^T forward, Y^T L = B^T back). */
+void kt_plan_forward_multi(const kt_plan_factor *F, double *work, int c0, int c1, int nrhs,
+                           double *Y)
+{
+    const cholmod_factor *L = F->L;
+    if (!L->is_super) {
+        forward_simplicial_multi(L, c0, c1, nrhs, Y);
+        return;
+    }
+    const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
+    const double *Lx = L->x;
+    int ns = (int)L->nsuper, lo = 0, hi = ns;
+    while (lo < hi) { /* lo: the first supernode ending after c0 */
+        int mid = lo + (hi - lo) / 2;
+        if (S[mid + 1] <= c0) lo = mid + 1;
+        else hi = mid;
+    }
+    for (int s = lo; s < ns && S[s] < c1; s++) {
+        int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
+        int a = (k1 > c0 ? k1 : c0) - k1, b = (k1 + nscol < c1 ? k1 + nscol : c1) - k1;
+        const double *X = Lx + px[s] + (size_t)a * nsrow;
+        double *top = Y + (size_t)(k1 + a) * nrhs;
+        cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasTrans, CblasNonUnit, nrhs, b - a,
+                    1.0, X + a, nsrow, top, nrhs);
+        int nb = nsrow - b;
+        if (nb == 0) continue;
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, nrhs, nb, b - a, 1.0, top, nrhs,
+                    X + b, nsrow, 0.0, work, nrhs);
+        const int *rows = Ls + pi[s] + b;
+        for (int q = 0; q < nb; q++) {
+            double *yr = Y + (size_t)rows[q] * nrhs;
+            const double *wq = work + (size_t)q * nrhs;
+            for (int k = 0; k < nrhs; k++) yr[k] -= wq[k];
+        }
+    }
+}
+
+void kt_plan_back_multi(const kt_plan_factor *F, const unsigned char *want, double *work, int N,
+                        int nrhs, double *Y)
+{
+    const cholmod_factor *L = F->L;
+    if (!L->is_super) {
+        back_simplicial_multi(L, N, nrhs, Y);
+        return;
+    }
+    const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
+    const double *Lx = L->x;
+    for (int s = (int)L->nsuper - 1; s >= 0; s--) {
+        int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
+        if (k1 >= N || (want && !want[s])) continue;
+        int nc = k1 + nscol < N ? nscol : N - k1;
+        const double *X = Lx + px[s];
+        double *top = Y + (size_t)k1 * nrhs;
+        int nr = nc < nscol ? 0 : rows_below(F, s, N);
+        if (nr > 0) {
+            const int *rows = Ls + pi[s] + nscol;
+            for (int q = 0; q < nr; q++) {
+                const double *yr = Y + (size_t)rows[q] * nrhs;
+                for (int k = 0; k < nrhs; k++) work[(size_t)q * nrhs + k] = yr[k];
+            }
+            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, nrhs, nc, nr, -1.0, work,
+                        nrhs, X + nscol, nsrow, 1.0, top, nrhs);
+        }
+        cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasNoTrans, CblasNonUnit, nrhs, nc,
+                    1.0, X, nsrow, top, nrhs);
+    }
+}

@@ -63,7 +63,8 @@ static int planned_create(void **st, const kt_solver_in *in, char *why, size_t n
     if (in->sens) {
         /* The derivatives' right-hand sides read every variable of the step's solution: the
          * step's own back substitution is whole, the derivatives' are restricted instead. */
-        if (kt_plan_sens_init(&P->D, in->sens, in->plan, in->final, in->prob->mats, e)) goto fail;
+        if (kt_plan_sens_init(&P->D, in->sens, in->plan, F, in->final, in->prob->mats, e))
+            goto fail;
         P->D.want = P->S.want;
         P->S.want = NULL;
         P->S.want_cols = 0;

@@ -5,8 +5,9 @@
  * rounding), CHOLMOD's workspace sizes cover it, and the planned substitutions on it
  * (kt_plan_forward, continued at any column, and kt_plan_back on a released prefix) solve the
  * whole matrix and every leading block as CHOLMOD's solve and a fresh factorization of the
- * block do. The eye-level check (augsolve --verify with and without panels) is
- * tests/augsolve_panels.sh. */
+ * block do; their blocked forms for several right-hand sides at once (kt_plan_forward_multi /
+ * kt_plan_back_multi, supernodal and simplicial) equal them column by column. The eye-level
+ * check (augsolve --verify with and without panels) is tests/augsolve_panels.sh. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -208,6 +209,97 @@ static double max_abs_diff(const double *a, const double *b, size_t n, double *s
     return d;
 }
 
+/* Y (n x nrhs, interleaved) through the column-by-column substitutions: forward split at cut,
+ * rows >= N zeroed, back (supernodal: kt_plan_back; simplicial: CHOLMOD's L^T or D L^T). */
+static void by_columns(const kt_plan_factor *F, double *work, int cut, int N, int nrhs,
+                       const double *Y, double *X, cholmod_common *c)
+{
+    int n = F->nfree;
+    double *y = malloc((size_t)n * sizeof(double));
+    CHECK(y != NULL, "out of memory");
+    for (int k = 0; k < nrhs; k++) {
+        for (int q = 0; q < n; q++) y[q] = Y[(size_t)q * nrhs + k];
+        kt_plan_forward(F, work, 0, cut, y);
+        kt_plan_forward(F, work, cut, N, y);
+        for (int q = N; q < n; q++) y[q] = 0;
+        if (F->L->is_super) {
+            kt_plan_back(F, NULL, work, N, y);
+        } else {
+            cholmod_dense Z = {(size_t)n, 1, (size_t)n, (size_t)n, y, NULL, CHOLMOD_REAL,
+                               CHOLMOD_DOUBLE};
+            cholmod_dense *Z1 = cholmod_solve(F->L->is_ll ? CHOLMOD_Lt : CHOLMOD_DLt, F->L, &Z, c);
+            CHECK(Z1 != NULL, "CHOLMOD back substitution");
+            memcpy(y, Z1->x, (size_t)n * sizeof(double));
+            cholmod_free_dense(&Z1, c);
+        }
+        for (int q = 0; q < n; q++) X[(size_t)q * nrhs + k] = y[q];
+    }
+    free(y);
+}
+
+/* The blocked substitutions (kt_plan_forward_multi / kt_plan_back_multi, nrhs interleaved
+ * right-hand sides) against the same substitutions column by column, on every leading block
+ * N, the forward one split at a column and continued: equal to 1e-13 relative. */
+static void check_multi(const kt_plan_factor *F, int nK, int nrhs, unsigned long long seed,
+                        const char *name, cholmod_common *c)
+{
+    int n = F->nfree, m = n - nK;
+    size_t sz = (size_t)n * nrhs;
+    double *Y = malloc(sz * sizeof(double)), *X = malloc(sz * sizeof(double));
+    double *B = malloc(sz * sizeof(double)), *work = malloc((size_t)F->maxrow * nrhs * sizeof(double));
+    CHECK(Y && X && B && work, "out of memory");
+    rnd r = {seed + 29};
+    for (size_t i = 0; i < sz; i++) B[i] = uni(&r) * 2 - 1;
+    int Ns[] = {nK / 2, nK, nK + 1, nK + m / 2 + 1, n};
+    for (int t = 0; t < 5; t++) {
+        int N = Ns[t] < n ? Ns[t] : n, cut = N > nK + 2 ? nK + (N - nK) / 2 : N / 2;
+        for (size_t i = 0; i < sz; i++) Y[i] = (int)(i / nrhs) < N ? B[i] : 0;
+        by_columns(F, work, cut, N, nrhs, Y, X, c);
+        kt_plan_forward_multi(F, work, 0, cut, nrhs, Y);
+        kt_plan_forward_multi(F, work, cut, N, nrhs, Y);
+        for (size_t i = (size_t)N * nrhs; i < sz; i++) Y[i] = 0;
+        kt_plan_back_multi(F, NULL, work, N, nrhs, Y);
+        double scale, d = max_abs_diff(Y, X, sz, &scale);
+        CHECK(d <= 1e-13 * scale, "%s: %d right-hand sides, leading block %d (%s): blocked and "
+              "column by column differ by %g (scale %g)", name, nrhs, N,
+              F->L->is_super ? "supernodal" : "simplicial", d, scale);
+    }
+    free(Y);
+    free(X);
+    free(B);
+    free(work);
+}
+
+/* A simplicial factor in the planned order (LDL^T, or LL^T with ll), for check_multi. */
+static void check_multi_simplicial(const trip *t, int nK, int ll, unsigned long long seed)
+{
+    char name[96];
+    snprintf(name, sizeof name, "simplicial %s, seed %llu", ll ? "LL^T" : "LDL^T", seed);
+    cholmod_common c;
+    cholmod_start(&c);
+    cholmod_sparse *A = to_sparse(t, t->n, &c);
+    int *P = planned_order(t, nK, &c);
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_GIVEN;
+    c.postorder = 0;
+    c.supernodal = CHOLMOD_SIMPLICIAL;
+    c.final_ll = ll;
+    cholmod_factor *L = cholmod_analyze_p(A, P, NULL, 0, &c);
+    CHECK(L != NULL, "%s: analysis", name);
+    cholmod_factorize(A, L, &c);
+    CHECK(c.status == CHOLMOD_OK && !L->is_super && L->is_ll == ll, "%s: factorize", name);
+    kt_plan_factor F = {0};
+    F.L = L;
+    F.nfree = t->n;
+    F.nK = nK;
+    kt_plan_subst_init(&F);
+    for (int nrhs = 1; nrhs <= 5; nrhs += 2) check_multi(&F, nK, nrhs, seed, name, &c);
+    free(P);
+    cholmod_free_factor(&L, &c);
+    cholmod_free_sparse(&A, &c);
+    cholmod_finish(&c);
+}
+
 /* One matrix, one panel width: the same L, and the planned substitutions on the split factor
  * against CHOLMOD's solves. */
 static void check_case(int nx, int ny, int nz, int m, int width, unsigned long long seed)
@@ -300,6 +392,11 @@ static void check_case(int nx, int ny, int nz, int m, int width, unsigned long l
         cholmod_free_dense(&B, &c);
         cholmod_free_factor(&LN, &c);
         cholmod_free_sparse(&AN, &c);
+    }
+    for (int nrhs = 1; nrhs <= 5; nrhs += 2) check_multi(&F, nK, nrhs, seed, name, &c);
+    if (width == 7) {
+        check_multi_simplicial(&t, nK, 0, seed);
+        check_multi_simplicial(&t, nK, 1, seed);
     }
     free(work);
     free(b);
