@@ -256,17 +256,24 @@ void kt_fem_strain_matrix(int nv, double (*g)[3], const double (*F)[3], double *
     }
 }
 
-/* Ke += w B^T C B. */
-void kt_fem_add_btcb(int nv, const double *B, const double *C, double w, double *Ke)
+/* CB (6 x 3nv, row-major) := C B, C 6 x 6 and B 6 x 3nv row-major. */
+static void c_times_b(int nv, const double *B, const double *C, double *CB)
 {
     int ld = 3 * nv;
-    double CB[6 * 30];
     for (int p = 0; p < 6; p++)
         for (int r = 0; r < ld; r++) {
             double s = 0;
             for (int q = 0; q < 6; q++) s += C[6 * p + q] * B[q * ld + r];
             CB[p * ld + r] = s;
         }
+}
+
+/* Ke += w B^T C B. */
+void kt_fem_add_btcb(int nv, const double *B, const double *C, double w, double *Ke)
+{
+    int ld = 3 * nv;
+    double CB[6 * 30];
+    c_times_b(nv, B, C, CB);
     for (int r = 0; r < ld; r++)
         for (int s = 0; s < ld; s++) {
             double v = 0;
@@ -406,12 +413,7 @@ static void add_btcb_sym(int nv, const double *B, const double *C, double w, dou
 {
     int ld = 3 * nv;
     double CB[6 * 30];
-    for (int p = 0; p < 6; p++)
-        for (int r = 0; r < ld; r++) {
-            double s = 0;
-            for (int q = 0; q < 6; q++) s += C[6 * p + q] * B[q * ld + r];
-            CB[p * ld + r] = s;
-        }
+    c_times_b(nv, B, C, CB);
     for (int r = 0; r < ld; r++)
         for (int s = 0; s <= r; s++) {
             double v = 0;

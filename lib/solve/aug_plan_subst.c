@@ -55,6 +55,19 @@ static void forward_simplicial(const cholmod_factor *L, int c0, int c1, double *
     }
 }
 
+/* The first supernode of L that ends after column c0 (nsuper when none). */
+static int first_super(const cholmod_factor *L, int c0)
+{
+    const int *S = L->super;
+    int lo = 0, hi = (int)L->nsuper;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (S[mid + 1] <= c0) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
 void kt_plan_forward(const kt_plan_factor *F, double *work, int c0, int c1, double *y)
 {
     const cholmod_factor *L = F->L;
@@ -65,13 +78,8 @@ void kt_plan_forward(const kt_plan_factor *F, double *work, int c0, int c1, doub
     const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
     const double *Lx = L->x;
     double *w = work;
-    int ns = (int)L->nsuper, lo = 0, hi = ns;
-    while (lo < hi) { /* lo: the first supernode ending after c0 */
-        int mid = lo + (hi - lo) / 2;
-        if (S[mid + 1] <= c0) lo = mid + 1;
-        else hi = mid;
-    }
-    for (int s = lo; s < ns && S[s] < c1; s++) {
+    int ns = (int)L->nsuper;
+    for (int s = first_super(L, c0); s < ns && S[s] < c1; s++) {
         int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
         int a = (k1 > c0 ? k1 : c0) - k1, b = (k1 + nscol < c1 ? k1 + nscol : c1) - k1;
         const double *X = Lx + px[s] + (size_t)a * nsrow;
@@ -159,13 +167,8 @@ void kt_plan_forward_multi(const kt_plan_factor *F, double *work, int c0, int c1
     }
     const int *S = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
     const double *Lx = L->x;
-    int ns = (int)L->nsuper, lo = 0, hi = ns;
-    while (lo < hi) { /* lo: the first supernode ending after c0 */
-        int mid = lo + (hi - lo) / 2;
-        if (S[mid + 1] <= c0) lo = mid + 1;
-        else hi = mid;
-    }
-    for (int s = lo; s < ns && S[s] < c1; s++) {
+    int ns = (int)L->nsuper;
+    for (int s = first_super(L, c0); s < ns && S[s] < c1; s++) {
         int k1 = S[s], nscol = S[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
         int a = (k1 > c0 ? k1 : c0) - k1, b = (k1 + nscol < c1 ? k1 + nscol : c1) - k1;
         const double *X = Lx + px[s] + (size_t)a * nsrow;
