@@ -41,6 +41,11 @@ scene negative $'model: eye\neye:\n  peripheral_thickness: -0.6 mm\n'
 expect_fail "negative thickness" "negative.yaml:3:25: eye.peripheral_thickness: expected a length in \[0.05, 5\] mm" \
     "$tmp/negative.yaml" -o "$tmp/out/x.msh"
 
+# a limbal band of 0 would divide by zero in the fibre frames (lib/model/eye_fibre.c)
+scene band0 $'model: eye\neye:\n  fibres: {limbal_band: 0 mm}\n'
+expect_fail "limbal band 0" "band0.yaml:3:25: eye.fibres.limbal_band: expected a length in \\(0, 5\\] mm" \
+    "$tmp/band0.yaml" -o "$tmp/out/x.msh"
+
 # the toric posterior (keratome-scene(5)): one of the two forms, the pair together, steep at
 # most flat, radii and axis in range; each refused before any meshing
 scene postboth $'model: eye\neye:\n  posterior_radius: 6.7 mm\n  posterior_radius_steep: 6.5 mm\n  posterior_radius_flat: 6.9 mm\n'

@@ -229,7 +229,7 @@ int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
     yaml_node_t *fib = kt_yml_get(y, n, "fibres");
     if (fib && (kt_yml_check_map(y, fib, "eye.fibres", FIBRE_KEYS, e) ||
                 kt_yml_key_quantity(y, fib, "eye.fibres", "limbal_band", KT_UNIT_LENGTH,
-                                    kt_scene_range(0, 5, 0, 0), &eye->fibre_band, e) ||
+                                    kt_scene_range(0, 5, 1, 0), &eye->fibre_band, e) ||
                 kt_yml_key_number(y, fib, "eye.fibres", "limbal_density", kt_scene_range(1, 5, 0, 0),
                                   &eye->fibre_density, e)))
         return e->code;
