@@ -69,7 +69,9 @@ done
 # gen.sh on the study's own spec, the ci set with N = 3
 bash plans/studies/uq/gen.sh plans/studies/uq/study.spec "$tmp/g" ci 3
 grep -qx "SAMPLES := s000 s001 s002" "$tmp/g/study.mk" || fail "study.mk: $(cat "$tmp/g/study.mk")"
-grep -qx "GEOMETRY := E_inplane_plus E_inplane_minus G_transverse_plus G_transverse_minus iop_plus iop_minus limbal_density_plus limbal_density_minus thickness_plus thickness_minus depth_plus depth_minus" "$tmp/g/study.mk" || fail "GEOMETRY"
+# the fd pairs only: the material quantities come from augsolve --uncertainty (h "-" in the spec)
+grep -qx "GEOMETRY := thickness_plus thickness_minus depth_plus depth_minus" "$tmp/g/study.mk" || fail "GEOMETRY: $(grep GEOMETRY "$tmp/g/study.mk")"
+grep -qx "FAMILIES := single paired" "$tmp/g/study.mk" || fail "FAMILIES"
 [ "$(wc -l < "$tmp/g/samples.tsv")" -eq 4 ] || fail "samples.tsv rows"
 # the nominal eye: the base scene on the quick mesh, nothing else moved, plus the study's
 # uncertainty section at its end (the first-order band's sds are the sampled ones)
@@ -85,6 +87,7 @@ dE=$(awk -F'\t' 'NR == 2 { print $2 }' "$tmp/g/samples.tsv")
 want=$(awk -v d="$dE" 'BEGIN { printf "%.6g", 2.0 + d }')
 [ "$(grep -c "E_inplane: $want MPa" "$tmp/g/scenes/s000.yaml")" -eq 2 ] || fail "s000: E_inplane $want MPa not in cornea and limbus"
 # the depth pair: +-H um over the 653 um local thickness, in the plan and the scene's ring
-grep -q "depth_fraction: 0.915314" "$tmp/g/plans/depth_plus.yaml" && grep -q "depth_fraction: 0.884686" "$tmp/g/scenes/depth_minus.yaml" ||
+grep -q "depth_fraction: 0.915314" "$tmp/g/plans/depth_plus-paired.yaml" && grep -q "depth_fraction: 0.915314" "$tmp/g/plans/depth_plus-single.yaml" &&
+    grep -q "depth_fraction: 0.884686" "$tmp/g/scenes/depth_minus.yaml" ||
     fail "depth_plus / depth_minus depth fractions"
 echo "uq_lhs: ok"
