@@ -4,7 +4,10 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <SuiteSparse_config.h>
+
 #include "augsolve_run.h"
+#include "util.h"
 
 static const char *USAGE =
     "usage: augsolve MESH.msh EDITS -o RUN_DIR [options]\n"
@@ -165,5 +168,10 @@ static int tool_main(int argc, char **argv)
 int main(int argc, char **argv)
 {
     kt_tool_start();
+    /* CHOLMOD's arrays (the factor above all) on transparent huge pages (util.h), set once
+     * before any CHOLMOD call; its free stays the C library's */
+    SuiteSparse_config.malloc_func = kt_huge_malloc;
+    SuiteSparse_config.calloc_func = kt_huge_calloc;
+    SuiteSparse_config.realloc_func = kt_huge_realloc;
     kt_exit(tool_main(argc, argv));
 }

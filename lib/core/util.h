@@ -27,6 +27,17 @@ void *kt_calloc(size_t n, size_t size, kt_err *e);
 void *kt_realloc(void *p, size_t n, size_t size, kt_err *e);
 char *kt_strdup(const char *s, kt_err *e);
 
+/* malloc, calloc and realloc with the C library's contract (NULL on failure, free() releases),
+ * asking for transparent huge pages (madvise MADV_HUGEPAGE on the block's 2 MiB-aligned part)
+ * on blocks of KT_HUGE_MIN bytes or more: a solve's big arrays (stiffness, factor, derivative
+ * matrices) then take one page fault per 2 MiB instead of per 4 KiB. kt_calloc and kt_realloc
+ * use them; augsolve hands them to SuiteSparse (SuiteSparse_config) for CHOLMOD's arrays. No
+ * test hook here (KT_ALLOC_FAIL counts kt_calloc/kt_realloc only). */
+#define KT_HUGE_MIN ((size_t)4 << 20)
+void *kt_huge_malloc(size_t size);
+void *kt_huge_calloc(size_t n, size_t size);
+void *kt_huge_realloc(void *p, size_t size);
+
 /* Monotonic wall-clock seconds. */
 double kt_now(void);
 

@@ -282,6 +282,48 @@ void kt_fem_add_btcb(int nv, const double *B, const double *C, double w, double 
         }
 }
 
+/* The rows of the small-strain B (kt_fem_strain_matrix with F NULL) that may be nonzero in
+ * column 3a+i, ascending: the normal strain of component i and the two shears holding i. Every
+ * other entry of the column is a product with an exact zero, so a sum over these rows alone
+ * equals the full sum over the six bit for bit (the skipped terms are +-0, the partial sums
+ * start at +0 and never become -0): the linear kernels below do half the products. */
+static const int SS_ROWS[3][3] = {{0, 4, 5}, {1, 3, 5}, {2, 3, 4}};
+
+/* c_times_b for a small-strain B. */
+static void c_times_b_ss(int nv, const double *B, const double *C, double *CB)
+{
+    int ld = 3 * nv;
+    for (int r = 0; r < ld; r++) {
+        const int *P = SS_ROWS[r % 3];
+        double b0 = B[P[0] * ld + r], b1 = B[P[1] * ld + r], b2 = B[P[2] * ld + r];
+        for (int p = 0; p < 6; p++) {
+            double s = 0;
+            s += C[6 * p + P[0]] * b0;
+            s += C[6 * p + P[1]] * b1;
+            s += C[6 * p + P[2]] * b2;
+            CB[p * ld + r] = s;
+        }
+    }
+}
+
+/* v(r, s) of B^T (CB) for a small-strain B: row r's three rows of B (b) against CB. */
+#define KT_SS_DOT(b, CB0, CB1, CB2, s) (((0.0 + (b)[0] * (CB0)[s]) + (b)[1] * (CB1)[s]) + (b)[2] * (CB2)[s])
+
+/* kt_fem_add_btcb for a small-strain B (the same sums, bit for bit). */
+static void add_btcb_ss(int nv, const double *B, const double *C, double w, double *Ke)
+{
+    int ld = 3 * nv;
+    double CB[6 * 30];
+    c_times_b_ss(nv, B, C, CB);
+    for (int r = 0; r < ld; r++) {
+        const int *P = SS_ROWS[r % 3];
+        const double b[3] = {B[P[0] * ld + r], B[P[1] * ld + r], B[P[2] * ld + r]};
+        const double *CB0 = CB + P[0] * ld, *CB1 = CB + P[1] * ld, *CB2 = CB + P[2] * ld;
+        double *K = Ke + r * ld;
+        for (int s = 0; s < ld; s++) K[s] += w * KT_SS_DOT(b, CB0, CB1, CB2, s);
+    }
+}
+
 /* Ke(3a+i, 3b+i) += w g_a . sig g_b: the stress stiffness of a prestress sig (Voigt). */
 void kt_fem_add_sigma(int nv, double (*g)[3], const double *sig, double w, double *Ke)
 {
@@ -394,7 +436,7 @@ int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *
         if (kt_fem_point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
         if (material) {
             kt_fem_strain_matrix(nv, g, NULL, B);
-            kt_fem_add_btcb(nv, B, C, rule.w[q] * det, Ke);
+            add_btcb_ss(nv, B, C, rule.w[q] * det, Ke);
         }
         if (td->sig)
             kt_fem_add_sigma(nv, g, td->sig + ((size_t)tet * KT_FEM_NQ + q) * 6, rule.w[q] * det, Ke);
@@ -407,20 +449,23 @@ int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *
     return KT_OK;
 }
 
-/* Ke += w B^T C B on the lower triangle (r >= s), mirrored: half the products of
- * kt_fem_add_btcb (the same sums to rounding, exactly symmetric). */
+/* Ke += w B^T C B on the lower triangle (r >= s), mirrored, for a small-strain B: half the
+ * products of add_btcb_ss (the same sums to rounding, exactly symmetric). */
 static void add_btcb_sym(int nv, const double *B, const double *C, double w, double *Ke)
 {
     int ld = 3 * nv;
     double CB[6 * 30];
-    c_times_b(nv, B, C, CB);
-    for (int r = 0; r < ld; r++)
+    c_times_b_ss(nv, B, C, CB);
+    for (int r = 0; r < ld; r++) {
+        const int *P = SS_ROWS[r % 3];
+        const double b[3] = {B[P[0] * ld + r], B[P[1] * ld + r], B[P[2] * ld + r]};
+        const double *CB0 = CB + P[0] * ld, *CB1 = CB + P[1] * ld, *CB2 = CB + P[2] * ld;
         for (int s = 0; s <= r; s++) {
-            double v = 0;
-            for (int p = 0; p < 6; p++) v += B[p * ld + r] * CB[p * ld + s];
+            double v = KT_SS_DOT(b, CB0, CB1, CB2, s);
             Ke[r * ld + s] += w * v;
             if (s != r) Ke[s * ld + r] += w * v;
         }
+    }
 }
 
 /* Quadrature point q's share of every data set: w B^T C_k B + the stress stiffness into Ke_k,
