@@ -82,10 +82,26 @@ static int block_at(const cholmod_sparse *P, int n, int w)
     return lo < Pp[w + 1] && Pi[lo] == r0 ? lo : -1;
 }
 
-/* dAx(v, w) += x (nd values) for the rows v of node block nv >= w, column w: x + nd (v - v0). */
-static int add_block(kt_plan_sens *D, int nb, int w, int r0, int r1, const double *x, kt_err *e)
+/* block_at(P, n, w) from q0 = block_at(P, n, 3m), m = w / 3: the three columns of node m hold
+ * the same node blocks (whole 3 x 3 blocks below the diagonal one), so for n > m the block sits
+ * c = w - 3m places further from the start of column w than of column 3m; for n == m it opens
+ * column w. Checked against the pattern, else searched. */
+static int block_in(const cholmod_sparse *P, int n, int w, int q0)
 {
-    int q = block_at(D->P, nb, w), v0 = 3 * nb > w ? 3 * nb : w, nd = D->nd;
+    const int *Pp = P->p, *Pi = P->i;
+    int m = w / 3, q = -1;
+    if (n == m) q = Pp[w];
+    else if (n > m && q0 >= 0) q = Pp[w] + (q0 - Pp[3 * m]) - (w - 3 * m);
+    if (q >= Pp[w] && q < Pp[w + 1] && Pi[q] == (n == m ? w : 3 * n)) return q;
+    return block_at(P, n, w);
+}
+
+/* dAx(v, w) += x (nd values) for the rows v of node block nv >= w, column w: x + nd (v - v0);
+ * q0: node nb's block in column 3 (w / 3) (block_in). */
+static int add_block(kt_plan_sens *D, int nb, int w, int r0, int r1, const double *x, int q0,
+                     kt_err *e)
+{
+    int q = block_in(D->P, nb, w, q0), v0 = 3 * nb > w ? 3 * nb : w, nd = D->nd;
     const int *Pi = D->P->i;
     for (int r = r0; r < r1; r++) {
         int v = 3 * nb + r;
@@ -103,14 +119,21 @@ static int add_block(kt_plan_sens *D, int nb, int w, int r0, int r1, const doubl
  * assembled K: every lower entry K(I, J) of tet t's nodes, and its mirror, through the
  * chains; ch[a] holds 3x node a's chain (nch[a] nodes). */
 static int scatter(kt_plan_sens *D, const int *t, int nv, const int (*ch)[KT_PLAN_CHAIN_MAX],
-                   const int *nch, const double *Ke, kt_err *e)
+                   const int *nch, const double *Ke, int *q0, kt_err *e)
 {
     int ld = 3 * nv, nd = D->nd;
     double x[3 * KT_FEM_MULTI_MAX], xm[3 * KT_FEM_MULTI_MAX];
     for (int b = 0; b < nv; b++)
         for (int a = 0; a < nv; a++) {
             if (t[a] < t[b]) continue;
-            int same = t[a] == t[b];
+            int same = t[a] == t[b], nab = nch[a] * nch[b];
+            /* the node pairs' blocks in their first columns, searched once for the 3 columns */
+            for (int al = 0; al < nch[a]; al++)
+                for (int be = 0; be < nch[b]; be++) {
+                    int na = ch[a][al] / 3, nb = ch[b][be] / 3;
+                    q0[al * nch[b] + be] = block_at(D->P, na, 3 * nb);
+                    q0[nab + al * nch[b] + be] = block_at(D->P, nb, 3 * na);
+                }
             for (int c = 0; c < 3; c++) {
                 /* column c of the node pair: rows r (K(3t[a]+r, 3t[b]+c)), and the mirror
                  * K(3t[b]+c, 3t[a]+r) as column r's row c (off the diagonal entry) */
@@ -120,12 +143,13 @@ static int scatter(kt_plan_sens *D, const int *t, int nv, const int (*ch)[KT_PLA
                         x[(r - r0) * nd + k] = Ke[(size_t)k * ld * ld + (3 * a + r) * ld + 3 * b + c];
                 for (int al = 0; al < nch[a]; al++)
                     for (int be = 0; be < nch[b]; be++) {
-                        int na = ch[a][al] / 3, nb = ch[b][be] / 3;
-                        if (add_block(D, na, 3 * nb + c, r0, 3, x, e)) return e->code;
+                        int na = ch[a][al] / 3, nb = ch[b][be] / 3, ab = al * nch[b] + be;
+                        if (add_block(D, na, 3 * nb + c, r0, 3, x, q0[ab], e)) return e->code;
                         for (int r = r0; r < 3; r++) { /* the mirror: (3nb + c, 3na + r) */
                             if (same && r == c) continue;
                             for (int k = 0; k < nd; k++) xm[k] = x[(r - r0) * nd + k];
-                            if (add_block(D, nb, 3 * na + r, c, c + 1, xm, e)) return e->code;
+                            if (add_block(D, nb, 3 * na + r, c, c + 1, xm, q0[nab + ab], e))
+                                return e->code;
                         }
                     }
             }
@@ -151,6 +175,7 @@ static int element_pass(kt_plan_sens *D, const kt_edits_plan *p, const kt_mesh *
         return e->code;
     double *Ke = kt_calloc((size_t)ld * ld * nd, sizeof(double), e), fe[30 * KT_FEM_MULTI_MAX];
     int(*ch)[KT_PLAN_CHAIN_MAX] = kt_calloc(10, sizeof *ch, e);
+    int *q0 = kt_calloc(2 * (size_t)KT_PLAN_CHAIN_MAX * KT_PLAN_CHAIN_MAX, sizeof(int), e);
     for (int el = 0; el < final->ne && !e->code; el++) {
         const int *t = final->tet + (size_t)el * nv;
         for (int a = 0; a < nv && !e->code; a++)
@@ -158,13 +183,14 @@ static int element_pass(kt_plan_sens *D, const kt_edits_plan *p, const kt_mesh *
                 kt_fail(e, KT_EINPUT, "node %d is split more than %d times", t[a] + 1,
                         KT_PLAN_CHAIN_MAX);
         if (e->code || kt_fem_element_multi(final, mats, td, nd, el, Ke, sig ? fe : NULL, e) ||
-            scatter(D, t, nv, (const int(*)[KT_PLAN_CHAIN_MAX])ch, nch, Ke, e))
+            scatter(D, t, nv, (const int(*)[KT_PLAN_CHAIN_MAX])ch, nch, Ke, q0, e))
             break;
         for (int r = 0; sig && r < ld; r++)
             for (int k = 0; k < nd; k++) D->dfe[((size_t)el * ld + r) * nd + k] = fe[k * ld + r];
     }
     free(Ke);
     free(ch);
+    free(q0);
     return e->code;
 }
 
