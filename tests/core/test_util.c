@@ -302,6 +302,45 @@ static void test_escape_and_lines(void)
     free(buf);
 }
 
+/* kt_huge_*: the C library's contract on both sides of KT_HUGE_MIN (zeroed calloc, realloc
+ * keeps the prefix, free() releases) and kt_calloc's zeroed big blocks. */
+static void test_huge_alloc(void)
+{
+    size_t sizes[] = {16, KT_HUGE_MIN - 8, KT_HUGE_MIN, 3 * KT_HUGE_MIN + 4096 + 8};
+    for (int k = 0; k < 4; k++) {
+        size_t n = sizes[k];
+        unsigned char *p = kt_huge_calloc(n, 1);
+        CHECK(p != NULL, "kt_huge_calloc(%zu)", n);
+        if (!p) continue;
+        size_t nz = 0;
+        for (size_t i = 0; i < n; i += 97) nz += p[i] != 0;
+        CHECK(nz == 0 && p[n - 1] == 0, "kt_huge_calloc(%zu): %zu nonzero bytes", n, nz);
+        for (size_t i = 0; i < n; i++) p[i] = (unsigned char)(i * 7 + 1);
+        unsigned char *q = kt_huge_realloc(p, 2 * n);
+        CHECK(q != NULL, "kt_huge_realloc(%zu)", 2 * n);
+        if (!q) {
+            free(p);
+            continue;
+        }
+        size_t bad = 0;
+        for (size_t i = 0; i < n; i++) bad += q[i] != (unsigned char)(i * 7 + 1);
+        CHECK(bad == 0, "kt_huge_realloc(%zu -> %zu) changed %zu bytes", n, 2 * n, bad);
+        memset(q + n, 0xab, n);
+        free(q);
+        double *d = kt_huge_malloc(n);
+        CHECK(d != NULL, "kt_huge_malloc(%zu)", n);
+        if (d) memset(d, 0, n);
+        free(d);
+    }
+    kt_err e = {0};
+    double *x = kt_calloc(KT_HUGE_MIN, sizeof(double), &e);
+    CHECK(x && e.code == 0, "kt_calloc of %zu doubles: %s", (size_t)KT_HUGE_MIN, e.msg);
+    double sum = 0;
+    for (size_t i = 0; x && i < KT_HUGE_MIN; i += 511) sum += fabs(x[i]);
+    CHECK(sum == 0, "kt_calloc's big block is not zero");
+    free(x);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/kt-util-XXXXXX");
@@ -311,6 +350,7 @@ int main(void)
     }
     test_atomic_output();
     test_errors_and_alloc();
+    test_huge_alloc();
     test_parse();
     test_path_relative();
     test_out_targets();
