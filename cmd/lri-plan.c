@@ -11,7 +11,7 @@ static const char usage[] =
     "incisions minimize the residual astigmatism: PLAN_DIR/plan.json and a summary on stdout.\n"
     "  -o, --output DIR    the plan folder (required; made if missing)\n"
     "      --base SCENE    the base eye scene (default: the repository's plans/eye.yaml)\n"
-    "      --fast          a coarse mesh without the incision floor's refinement\n"
+    "      --fast          a coarse mesh, the incision floor refined at 0.1 mm\n"
     "      --step DEG      arc opened per step, deg (default 5)\n"
     "      --no-uncertainty  no first-order band on the predicted residual (augsolve without\n"
     "                      --uncertainty: the runs cost up to a quarter less)\n"

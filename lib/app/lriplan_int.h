@@ -10,6 +10,12 @@
 #include "surffit.h"
 
 #define KT_LRIPLAN_MAXSTEP 64
+/* --fast's incision-floor size, mm (lri-plan(1), --fast; a mesh setting, not a physical
+ * number): measured on plans/patients/wtr-od.yaml, the --fast mesh's best arcs were 85 / 2 x 55
+ * deg without a floor refinement, 75 / 2 x 50 with 0.1 mm and 0.08 mm, 70 / 2 x 50 with
+ * 0.06 mm, against the default mesh's (floor 42 um) 70 / 2 x 50; 0.1 mm is the coarsest of
+ * these within one 5 deg step of the default, at about 1.7x the CPU of no refinement. */
+#define KT_LRIPLAN_FAST_FLOOR 0.1
 /* Unequal paired arcs (keratome-patient(5), UNEQUAL PAIRED ARCS; the project's rule, not a
  * publication's): run when the two halves' astigmatism differ by more than 10% (their ratio
  * below 0.9); the opposite arc's ratio is never below 0.2 (shorter, a single arc does it). */

@@ -12,7 +12,7 @@ typedef struct kt_lriplan_opts {
     const char *outdir;         /* PLAN_DIR */
     const char *base;           /* base eye scene; NULL: the repository's plans/eye.yaml */
     double step;                /* arc added per step, deg (5) */
-    int fast;                   /* coarse mesh without the floor refinement */
+    int fast;                   /* coarse mesh, the floor refinement at KT_LRIPLAN_FAST_FLOOR */
     int no_band;                /* --no-uncertainty: no first-order band (augsolve without
                                    --uncertainty; lri-plan(1), BAND) */
     int quiet;

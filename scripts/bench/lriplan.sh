@@ -4,7 +4,8 @@
 # with --fast and with the default setting. Prints one row per run (wall and CPU seconds, peak
 # RSS, mesh nodes, the meshing and solving seconds lri-plan reports, the chosen arcs and the
 # predicted residual) and per patient the difference between the settings (arc in deg,
-# residual in D), with the machine's load. Not a test: it prints figures.
+# residual in D), then each family's best arc in both settings, with the machine's load. Not a
+# test: it prints figures.
 #
 #   scripts/bench/lriplan.sh [-b BUILD_DIR] [-o OUT_DIR] [-p "wtr-od atr-os oblique-od"]
 #                            [-s "fast default"] [-- lri-plan options...]
@@ -83,4 +84,24 @@ awk -F'\t' 'NR > 1 { k = $1; if ($2 == "fast") { fa[k] = $15; fr[k] = $17; fw[k]
     END { print "\npatient\tarc_fast-default_deg\tresidual_fast-default_D\twall_default/fast";
           for (k in da) if (k in fa) printf "%s\t%+.1f\t%+.3f\t%.1f\n", k, fa[k] - da[k], fr[k] - dr[k], fw[k] > 0 ? dw[k] / fw[k] : 0 }' "$TSV" |
     column -t -s$'\t'
+# Per family (the settings may choose different families when their residuals are close):
+# each family's best arc and residual in both settings.
+"$PY" - "$OUT" $PATIENTS <<'PYEOF'
+import json, sys
+out, pats = sys.argv[1], sys.argv[2:]
+print("\npatient     family   fast                 default              arc fast-default")
+for p in pats:
+    best = {}
+    for s in ("fast", "default"):
+        try:
+            j = json.load(open("%s/%s-%s/plan.json" % (out, p, s)))
+        except Exception:
+            continue
+        for c in j["candidates"]:
+            best.setdefault(c["incisions"], {})[s] = (c["best_arc_deg"], c["best_arc_opposite_deg"], c["best_residual_D"])
+    for fam, v in best.items():
+        cell = lambda s: "%g/%g (%.2f D)" % v[s] if s in v else "-"
+        d = "%+g deg" % (v["fast"][0] - v["default"][0]) if len(v) == 2 else "-"
+        print("%-11s %-8s %-20s %-20s %s" % (p, fam, cell("fast"), cell("default"), d))
+PYEOF
 echo "table: $TSV; load now: $(uptime | sed 's/.*load average: //')"
