@@ -55,6 +55,7 @@ static void print_groups(FILE *f, const kt_mesh *m, int dim)
 
 typedef struct run_info {
     const kt_prep_opts *o;
+    int chosen_only;        /* KT_PREP_TABLE_CHOSEN */
     const kt_scene *s;
     int order, chosen, nfixed, nset, nsector;
     const char *set_label;
@@ -124,7 +125,8 @@ static void print_summary(FILE *f, const kt_mesh *m, const run_info *r)
             r->q.dihedral_min, r->q.dihedral_max, r->q.ratio_min, r->q.worst + 1, r->q.ratio_mean);
     fprintf(f, "dofs         %d, of which %d fixed (identity rows in the analysis)\n", 3 * m->nn, r->nfixed);
     fprintf(f, "closure set  %s: %d nodes\n", r->set_label, r->nrow ? r->row[0].st.nset : r->nset);
-    fprintf(f, "orderings    (closures in DOFs: elimination-tree paths from a node's DOFs to the root)\n");
+    fprintf(f, "orderings    %s(closures in DOFs: elimination-tree paths from a node's DOFs to the root)\n",
+            r->chosen_only ? "the chosen one only, --chosen-only " : "");
     fprintf(f, "  %-12s %12s %12s %8s %13s %12s %12s %9s\n", "method", "nnz(L)", "flops", "height",
             "closure mean", "closure max", "|closure(S)|", "order s");
     for (int i = 0; i < r->nrow; i++) {
@@ -191,7 +193,7 @@ static int compare_orderings(const kt_mesh *m, const unsigned char *fixed, const
     r->nrow = 0;
     for (int i = 0; i < 5; i++) {
         int meth = methods[i];
-        if (meth == KT_ORDERING_NATURAL && r->chosen != meth) continue;
+        if ((meth == KT_ORDERING_NATURAL || r->chosen_only) && r->chosen != meth) continue;
         kt_prep_row *w = &r->row[r->nrow++];
         w->method = meth;
         double t0 = kt_now();
@@ -288,6 +290,11 @@ static int check_budget(const kt_prep_opts *o, const kt_scene *s, int order, kt_
 
 int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e)
 {
+    return kt_prep_run_table(o, KT_PREP_TABLE_ALL, summary, e);
+}
+
+int kt_prep_run_table(const kt_prep_opts *o, int table, FILE *summary, kt_err *e)
+{
     kt_scene *s = kt_calloc(1, sizeof *s, e);
     if (!s) return e->code;
     run_info r;
@@ -296,6 +303,7 @@ int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e)
     memset(&m, 0, sizeof m);
     if (kt_scene_load(o->scene, s, e) || probe_output(o->out, e)) goto done;
     r.o = o;
+    r.chosen_only = table == KT_PREP_TABLE_CHOSEN;
     r.s = s;
     r.order = o->order ? o->order : s->order;
     r.chosen = o->ordering ? o->ordering : s->ordering;
