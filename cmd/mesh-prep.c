@@ -7,7 +7,7 @@
 
 static const char *USAGE =
     "usage: mesh-prep SCENE.yaml -o OUT.msh [--ordering amd|metis|constrained|natural|metis-last]\n"
-    "                 [--order 1|2] [--binary] [-q]\n"
+    "                 [--order 1|2] [--binary] [--chosen-only] [-q]\n"
     "Mesh the scene, renumber its nodes in the chosen elimination order and write gmsh MSH 4.1\n"
     "(-o - writes to stdout). A summary (counts, element quality, and nnz(L), flops and\n"
     "elimination-tree closures under each ordering) goes to stdout, or to stderr with -o -.\n"
@@ -15,6 +15,7 @@ static const char *USAGE =
     "  --ordering METHOD    override the scene's ordering.method\n"
     "  --order N            override the scene's element order (1: 4-node, 2: 10-node tets)\n"
     "  --binary             binary MSH instead of ASCII\n"
+    "  --chosen-only        the ordering table's chosen row only (the others not computed)\n"
     "  -q, --quiet          no progress on stderr\n"
     "  -h, --help           this text\n"
     "      --version        the version (the CMake project version)\n"
@@ -41,12 +42,13 @@ static int tool_main(int argc, char **argv)
                                          {"ordering", required_argument, NULL, 'r'},
                                          {"order", required_argument, NULL, 'p'},
                                          {"binary", no_argument, NULL, 'b'},
+                                         {"chosen-only", no_argument, NULL, 'c'},
                                          {"quiet", no_argument, NULL, 'q'},
                                          {"help", no_argument, NULL, 'h'},
                                          {"version", no_argument, NULL, 'V'},
                                          {NULL, 0, NULL, 0}};
     kt_prep_opts o = {0};
-    int c;
+    int c, table = KT_PREP_TABLE_ALL;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "o:qh", LONG, NULL)) != -1) {
         switch (c) {
@@ -59,6 +61,7 @@ static int tool_main(int argc, char **argv)
             o.order = optarg[0] - '0';
             break;
         case 'b': o.binary = 1; break;
+        case 'c': table = KT_PREP_TABLE_CHOSEN; break;
         case 'q': o.quiet = 1; break;
         case 'h': fputs(USAGE, stdout); return kt_stdout_done("mesh-prep");
         case 'V': puts("mesh-prep (keratome) " KT_VERSION); return kt_stdout_done("mesh-prep");
@@ -70,7 +73,7 @@ static int tool_main(int argc, char **argv)
     o.scene = argv[optind];
     FILE *summary = strcmp(o.out, "-") ? stdout : (o.quiet ? NULL : stderr);
     kt_err e = {0};
-    if (kt_prep_run(&o, summary, &e)) {
+    if (kt_prep_run_table(&o, table, summary, &e)) {
         fprintf(stderr, "mesh-prep: %s\n", e.msg);
         return e.code;
     }

@@ -55,6 +55,7 @@ static void print_groups(FILE *f, const kt_mesh *m, int dim)
 
 typedef struct run_info {
     const kt_prep_opts *o;
+    int chosen_only;        /* KT_PREP_TABLE_CHOSEN */
     const kt_scene *s;
     int order, chosen, nfixed, nset, nsector;
     const char *set_label;
@@ -124,7 +125,8 @@ static void print_summary(FILE *f, const kt_mesh *m, const run_info *r)
             r->q.dihedral_min, r->q.dihedral_max, r->q.ratio_min, r->q.worst + 1, r->q.ratio_mean);
     fprintf(f, "dofs         %d, of which %d fixed (identity rows in the analysis)\n", 3 * m->nn, r->nfixed);
     fprintf(f, "closure set  %s: %d nodes\n", r->set_label, r->nrow ? r->row[0].st.nset : r->nset);
-    fprintf(f, "orderings    (closures in DOFs: elimination-tree paths from a node's DOFs to the root)\n");
+    fprintf(f, "orderings    %s(closures in DOFs: elimination-tree paths from a node's DOFs to the root)\n",
+            r->chosen_only ? "the chosen one only, --chosen-only " : "");
     fprintf(f, "  %-12s %12s %12s %8s %13s %12s %12s %9s\n", "method", "nnz(L)", "flops", "height",
             "closure mean", "closure max", "|closure(S)|", "order s");
     for (int i = 0; i < r->nrow; i++) {
@@ -172,30 +174,52 @@ static int probe_output(const char *path, kt_err *e)
     return KT_OK;
 }
 
-/* Compare the orderings on the unpermuted mesh; *perm gets the chosen one. */
+/* Compare the orderings on the unpermuted mesh; *perm gets the chosen one. metis-last is
+ * METIS's order with the set moved last: METIS is deterministic on one graph, so the metis row's
+ * order is reused (its time is METIS's plus the move). One symbolic analysis per ordering gives
+ * the figures of the set and of the sector. */
 static int compare_orderings(const kt_mesh *m, const unsigned char *fixed, const int *set,
                              const int *rank, int nset, const int *sector, int nsector,
                              run_info *r, int *perm, kt_err *e)
 {
     int methods[] = {KT_ORDERING_AMD, KT_ORDERING_METIS, KT_ORDERING_CONSTRAINED,
                      KT_ORDERING_METIS_LAST, KT_ORDERING_NATURAL};
-    int *p = kt_calloc((size_t)m->nn, sizeof(int), e);
-    if (!p) return e->code;
+    int *p = kt_calloc((size_t)m->nn, sizeof(int), e), *pm = kt_calloc((size_t)m->nn, sizeof(int), e);
+    if (!p || !pm) {
+        free(p), free(pm);
+        return e->code;
+    }
+    double t_metis = -1;
     r->nrow = 0;
     for (int i = 0; i < 5; i++) {
         int meth = methods[i];
-        if (meth == KT_ORDERING_NATURAL && r->chosen != meth) continue;
+        if ((meth == KT_ORDERING_NATURAL || r->chosen_only) && r->chosen != meth) continue;
         kt_prep_row *w = &r->row[r->nrow++];
         w->method = meth;
         double t0 = kt_now();
-        if (kt_order_nodes_ranked(m, meth, set, rank, nset, p, e)) break;
-        w->t_order = kt_now() - t0;
-        if (kt_order_analyze(m, p, fixed, set, nset, &w->st, e)) break;
-        if (nsector && kt_order_analyze(m, p, fixed, sector, nsector, &w->sector, e)) break;
+        if (meth == KT_ORDERING_METIS_LAST && t_metis >= 0) {
+            memcpy(p, pm, sizeof(int) * (size_t)m->nn);
+            if (kt_order_move_last(m, set, rank, nset, p, e)) break;
+            w->t_order = t_metis + (kt_now() - t0);
+        } else {
+            if (kt_order_nodes_ranked(m, meth, set, rank, nset, p, e)) break;
+            w->t_order = kt_now() - t0;
+        }
+        if (meth == KT_ORDERING_METIS) {
+            memcpy(pm, p, sizeof(int) * (size_t)m->nn);
+            t_metis = w->t_order;
+        }
+        const int *sets[2] = {set, sector};
+        int nsets[2] = {nset, nsector};
+        kt_order_stats st[2];
+        if (kt_order_analyze_sets(m, p, fixed, nsector ? 2 : 1, sets, nsets, st, e)) break;
+        w->st = st[0];
+        if (nsector) w->sector = st[1];
         if (meth == r->chosen) memcpy(perm, p, sizeof(int) * (size_t)m->nn);
         kt_log(r->o->quiet, "mesh-prep: ordering %s: nnz(L) %.4g\n", kt_order_name(meth), w->st.nnz_L);
     }
     free(p);
+    free(pm);
     return e->code;
 }
 
@@ -266,6 +290,11 @@ static int check_budget(const kt_prep_opts *o, const kt_scene *s, int order, kt_
 
 int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e)
 {
+    return kt_prep_run_table(o, KT_PREP_TABLE_ALL, summary, e);
+}
+
+int kt_prep_run_table(const kt_prep_opts *o, int table, FILE *summary, kt_err *e)
+{
     kt_scene *s = kt_calloc(1, sizeof *s, e);
     if (!s) return e->code;
     run_info r;
@@ -274,6 +303,7 @@ int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e)
     memset(&m, 0, sizeof m);
     if (kt_scene_load(o->scene, s, e) || probe_output(o->out, e)) goto done;
     r.o = o;
+    r.chosen_only = table == KT_PREP_TABLE_CHOSEN;
     r.s = s;
     r.order = o->order ? o->order : s->order;
     r.chosen = o->ordering ? o->ordering : s->ordering;

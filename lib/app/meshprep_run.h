@@ -28,4 +28,10 @@ typedef struct kt_prep_opts {
 /* Load, build, check, order, permute, write; the summary goes to 'summary' (NULL: none). */
 int kt_prep_run(const kt_prep_opts *o, FILE *summary, kt_err *e);
 
+/* The same with the ordering table's rows chosen: KT_PREP_TABLE_ALL (kt_prep_run's: every
+ * ordering computed and analysed) or KT_PREP_TABLE_CHOSEN (mesh-prep --chosen-only: the chosen
+ * ordering alone; the same mesh). A caller that discards the summary saves the other rows. */
+enum { KT_PREP_TABLE_ALL, KT_PREP_TABLE_CHOSEN };
+int kt_prep_run_table(const kt_prep_opts *o, int table, FILE *summary, kt_err *e);
+
 #endif

@@ -6,6 +6,8 @@
 #include <errno.h>
 #include <string.h>
 
+#include "g17.h"
+
 typedef struct wr {
     FILE *f;
     int bin;
@@ -33,8 +35,14 @@ static void put_z(wr *w, size_t v, char sep)
 
 static void put_d(wr *w, double v, char sep)
 {
-    if (w->bin) fwrite(&v, 8, 1, w->f);
-    else fprintf(w->f, "%.17g%c", v, sep);
+    char t[KT_G17_MAX + 1];
+    if (w->bin) {
+        fwrite(&v, 8, 1, w->f);
+    } else {
+        int n = kt_g17(v, t);
+        t[n] = sep;
+        fwrite(t, 1, (size_t)n + 1, w->f);
+    }
 }
 
 /* Section end: binary data is followed by a newline before the $End line. */
@@ -127,8 +135,15 @@ static void write_nodes(wr *w, const kt_mesh *m, int vol_tag)
         for (size_t i = 0; i < nn; i++) put_z(w, i + 1, '\n');
         if (w->bin) fwrite(m->xyz, sizeof(double), 3 * nn, w->f);
         else
-            for (size_t i = 0; i < nn; i++)
-                fprintf(w->f, "%.17g %.17g %.17g\n", m->xyz[3 * i], m->xyz[3 * i + 1], m->xyz[3 * i + 2]);
+            for (size_t i = 0; i < nn; i++) { /* "%.17g %.17g %.17g\n", by kt_g17 */
+                char line[3 * KT_G17_MAX + 4];
+                size_t k = 0;
+                for (int c = 0; c < 3; c++) {
+                    k += (size_t)kt_g17(m->xyz[3 * i + c], line + k);
+                    line[k++] = c < 2 ? ' ' : '\n';
+                }
+                fwrite(line, 1, k, w->f);
+            }
     }
     end_section(w, "Nodes");
 }

@@ -102,8 +102,17 @@ static int read_values(vr *r, const vtype *t, size_t count, double *out, const c
             return kt_cursor_fail(r, "expected %zu binary %s values for %s", count, t->name, what);
         }
         int swap = host_is_little();
+        if (t->is_float && t->size == 8) { /* the common case, a word at a time */
+            const unsigned char *s = r->b + r->p;
+            for (size_t i = 0; i < count; i++) {
+                uint64_t u;
+                memcpy(&u, s + 8 * i, 8);
+                if (swap) u = __builtin_bswap64(u);
+                memcpy(&out[i], &u, 8);
+            }
+        }
         for (size_t i = 0; i < count; i++) {
-            out[i] = decode_be(t, r->b + r->p + i * t->size, swap);
+            if (!(t->is_float && t->size == 8)) out[i] = decode_be(t, r->b + r->p + i * t->size, swap);
             if (!isfinite(out[i])) {
                 r->at = r->p + i * t->size;
                 return kt_cursor_fail(r, "expected a finite number for %s, found %g", what, out[i]);

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "g17.h"
 #include "vtk_int.h"
 
 /* ------------------------------------------------------------------------------------------ */
@@ -18,22 +19,53 @@
 typedef struct vw {
     FILE *f;
     int bin, swap;
+    size_t len;                 /* bytes waiting in buf */
+    char buf[1 << 16];
 } vw;
+
+/* The data blocks go through buf (one fwrite per 64 KiB, not one stdio call per value); every
+ * block ends with end_block, which flushes it before the next keyword line is printed to f. */
+static void vw_flush(vw *w)
+{
+    if (w->len) fwrite(w->buf, 1, w->len, w->f);
+    w->len = 0;
+}
+
+static void vw_room(vw *w, size_t n)
+{
+    if (w->len + n >= sizeof w->buf) vw_flush(w); /* >=: end_block's newline always fits */
+}
 
 static void put_be(vw *w, const void *src, size_t size)
 {
-    unsigned char b[8];
+    vw_room(w, size);
     const unsigned char *s = src;
-    for (size_t i = 0; i < size; i++) b[i] = w->swap ? s[size - 1 - i] : s[i];
-    fwrite(b, 1, size, w->f);
+    char *b = w->buf + w->len;
+    for (size_t i = 0; i < size; i++) b[i] = (char)(w->swap ? s[size - 1 - i] : s[i]);
+    w->len += size;
 }
 
-/* n doubles, per_line to a line in ASCII. */
+/* One ASCII value and its separator: a newline after every per_line-th value, else a blank. */
+static void put_text_double(vw *w, double v, size_t i, int per_line)
+{
+    vw_room(w, KT_G17_MAX + 1);
+    w->len += (size_t)kt_g17(v, w->buf + w->len);
+    w->buf[w->len++] = (i + 1) % (size_t)per_line == 0 ? '\n' : ' ';
+}
+
+static void put_text_int(vw *w, int v, size_t i, int per_line)
+{
+    vw_room(w, 13);
+    w->len += (size_t)kt_itoa(v, w->buf + w->len);
+    w->buf[w->len++] = (i + 1) % (size_t)per_line == 0 ? '\n' : ' ';
+}
+
+/* n doubles, per_line to a line in ASCII ("%.17g": kt_g17 prints the same text). */
 static void put_doubles(vw *w, const double *v, size_t n, int per_line)
 {
     for (size_t i = 0; i < n; i++) {
         if (w->bin) put_be(w, &v[i], 8);
-        else fprintf(w->f, "%.17g%c", v[i], (i + 1) % (size_t)per_line == 0 ? '\n' : ' ');
+        else put_text_double(w, v[i], i, per_line);
     }
 }
 
@@ -44,14 +76,16 @@ static void put_ints(vw *w, const int *v, size_t n, int per_line)
             int32_t x = v[i];
             put_be(w, &x, 4);
         } else {
-            fprintf(w->f, "%d%c", v[i], (i + 1) % (size_t)per_line == 0 ? '\n' : ' ');
+            put_text_int(w, v[i], i, per_line);
         }
     }
 }
 
+/* The end of a data block: its bytes go out before the next keyword line is printed. */
 static void end_block(vw *w)
 {
-    if (w->bin) fputc('\n', w->f);
+    if (w->bin) w->buf[w->len++] = '\n';
+    vw_flush(w);
 }
 
 static void write_header(vw *w, const char *title, const char *dataset, int nn, const double *xyz)
@@ -95,12 +129,14 @@ static int put_field(vw *w, const kt_vtk_field *f, size_t count, kt_err *e)
     } else {
         for (size_t i = 0; i < n; i++) {
             double x = f->v[i];
-            if (!(x >= INT_MIN && x <= INT_MAX) || x != floor(x))
+            if (!(x >= INT_MIN && x <= INT_MAX) || x != floor(x)) {
+                vw_flush(w);
                 return kt_fail(e, KT_EINPUT, "VTK int field '%s': value %g at %zu is not an int",
                                f->name, x, i);
+            }
             int k = (int)x;
             if (w->bin) put_be(w, &(int32_t){k}, 4);
-            else fprintf(w->f, "%d%c", k, (i + 1) % (size_t)f->ncomp == 0 ? '\n' : ' ');
+            else put_text_int(w, k, i, f->ncomp);
         }
     }
     end_block(w);
@@ -198,7 +234,8 @@ int kt_vtk_write_tets(const char *path, const kt_mesh *m, const kt_vtk_field *f,
         return e->code;
     kt_out o;
     if (kt_out_open(&o, path, e)) return e->code;
-    vw w = {o.f, binary, host_is_little()};
+    vw w;
+    w.f = o.f, w.bin = binary, w.swap = host_is_little(), w.len = 0;
     if (write_tets(&w, m, f, nf, e)) {
         kt_out_abort(&o);
         return e->code;
@@ -213,7 +250,8 @@ static int write_triangles(const char *path, int nn, const double *xyz, int ntri
         return e->code;
     kt_out o;
     if (kt_out_open(&o, path, e)) return e->code;
-    vw w = {o.f, binary, host_is_little()};
+    vw w;
+    w.f = o.f, w.bin = binary, w.swap = host_is_little(), w.len = 0;
     if (write_poly(&w, nn, xyz, ntri, tri, f, nf, grid, e)) {
         kt_out_abort(&o);
         return e->code;

@@ -112,6 +112,21 @@ static void poly_eval(const double *c, int N, double u, double v, double d[6])
         }
 }
 
+/* P(u,v) alone, summed as poly_eval sums d[0] (the same value to the bit): the least-squares
+ * matrix needs no derivatives. */
+static double poly_value(const double *c, int N, double u, double v)
+{
+    double pu[NP], pv[NP], p = 0;
+    pu[0] = pv[0] = 1;
+    for (int i = 1; i <= N; i++) pu[i] = pu[i - 1] * u, pv[i] = pv[i - 1] * v;
+    for (int i = 0; i <= N; i++)
+        for (int k = 0; i + k <= N; k++) {
+            double a = c[i * NP + k];
+            if (a != 0) p += a * pu[i] * pv[k];
+        }
+    return p;
+}
+
 /* Indices of the points within radius a of (cx, cy). */
 static int zone_points(const double *xyz, int n, double cx, double cy, double a, int *idx)
 {
@@ -136,11 +151,8 @@ static int zernike_once(const double *xyz, const int *idx, int np, kt_fit *f, co
     }
     for (int p = 0; p < np; p++) {
         const double *q = xyz + 3 * idx[p];
-        double u = (q[0] - f->xc) / f->a, v = (q[1] - f->yc) / f->a, d[6];
-        for (int t = 0; t < nt; t++) {
-            poly_eval(zmono + (size_t)t * NP * NP, f->order, u, v, d);
-            A[(size_t)t * np + p] = d[0];
-        }
+        double u = (q[0] - f->xc) / f->a, v = (q[1] - f->yc) / f->a;
+        for (int t = 0; t < nt; t++) A[(size_t)t * np + p] = poly_value(zmono + (size_t)t * NP * NP, f->order, u, v);
         b[p] = q[2];
     }
     int rc = lsq_solve(A, np, nt, b, f->zern, e);

@@ -338,13 +338,33 @@ static int analyze(const cholmod_sparse *A, int *parent, kt_order_stats *st, cho
     return KT_OK;
 }
 
+int kt_order_move_last(const kt_mesh *m, const int *last, const int *rank, int nlast, int *perm,
+                       kt_err *e)
+{
+    if (check_set(m, last, nlast, e)) return e->code;
+    for (int k = 0; rank && k < nlast; k++)
+        if (rank[k] < 0 || rank[k] > m->nn - 2)
+            return kt_fail(e, KT_ERUN, "ordering set: rank %d out of range", rank[k]);
+    return move_last(m->nn, last, rank, nlast, perm, e);
+}
+
 int kt_order_analyze(const kt_mesh *m, const int *perm, const unsigned char *fixed, const int *set,
                    int nset, kt_order_stats *st, kt_err *e)
 {
-    memset(st, 0, sizeof *st);
+    const int *sets[1] = {set};
+    int nsets[1] = {nset};
+    return kt_order_analyze_sets(m, perm, fixed, 1, sets, nsets, st, e);
+}
+
+int kt_order_analyze_sets(const kt_mesh *m, const int *perm, const unsigned char *fixed, int nk,
+                          const int *const *sets, const int *nsets, kt_order_stats *st, kt_err *e)
+{
     int nn = m->nn, n = 3 * nn;
-    st->n = n;
-    if (set && check_set(m, set, nset, e)) return e->code;
+    for (int k = 0; k < nk; k++) {
+        memset(&st[k], 0, sizeof st[k]);
+        st[k].n = n;
+        if (sets[k] && check_set(m, sets[k], nsets[k], e)) return e->code;
+    }
     graph g;
     if (node_graph(m, &g, e)) return e->code;
     int *own = kt_calloc((size_t)nn, sizeof(int), e), *inv = kt_calloc((size_t)nn, sizeof(int), e);
@@ -361,14 +381,21 @@ int kt_order_analyze(const kt_mesh *m, const int *perm, const unsigned char *fix
     for (int i = 0; i < nn; i++) inv[perm[i]] = i;
     A = dof_pattern(&g, perm, inv, fixed, &c, e);
     if (!A) goto done;
-    st->nnz_A = (double)((int *)A->p)[n];
-    if (analyze(A, parent, st, &c, e)) goto done;
+    st[0].nnz_A = (double)((int *)A->p)[n];
+    if (analyze(A, parent, &st[0], &c, e)) goto done;
     /* Depth = path length to the root; parents come after their children. */
     for (int j = n - 1; j >= 0; j--) {
         depth[j] = parent[j] < 0 ? 1 : depth[parent[j]] + 1;
-        if (depth[j] > st->height) st->height = depth[j];
+        if (depth[j] > st[0].height) st[0].height = depth[j];
     }
-    closures(parent, depth, inv, set, nset, nn, mark, st);
+    /* one factor: the same sparsity figures for every set, each its own closures */
+    for (int k = 0; k < nk; k++) {
+        if (k) {
+            st[k].nnz_A = st[0].nnz_A, st[k].nnz_L = st[0].nnz_L;
+            st[k].flops = st[0].flops, st[k].height = st[0].height;
+        }
+        closures(parent, depth, inv, sets[k], nsets[k], nn, mark, &st[k]);
+    }
 done:
     cholmod_free_sparse(&A, &c);
     cholmod_finish(&c);

@@ -55,4 +55,16 @@ typedef struct kt_order_stats {
 int kt_order_analyze(const kt_mesh *m, const int *perm, const unsigned char *fixed, const int *set,
                    int nset, kt_order_stats *st, kt_err *e);
 
+/* The same for nk sets at once (sets[k] of nsets[k] nodes, NULL: every node; st[k] its
+ * figures): one symbolic analysis, each set's closures on its elimination tree. */
+int kt_order_analyze_sets(const kt_mesh *m, const int *perm, const unsigned char *fixed, int nk,
+                          const int *const *sets, const int *nsets, kt_order_stats *st, kt_err *e);
+
+/* What the metis-last method does after METIS: move the 'last' nodes (ranked as in
+ * kt_order_nodes_ranked, rank NULL: all equal) to the end of perm by a stable sort, every part
+ * keeping its relative order. METIS is deterministic on one graph, so a METIS perm moved here
+ * is kt_order_nodes_ranked(KT_ORDERING_METIS_LAST)'s perm, without a second METIS run. */
+int kt_order_move_last(const kt_mesh *m, const int *last, const int *rank, int nlast, int *perm,
+                       kt_err *e);
+
 #endif
