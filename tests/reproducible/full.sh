@@ -56,7 +56,7 @@ sia=$(awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } { n++; s
     END { if (n == n0 && n >= 12) print s + 0 }' n0="$steps" "$T/demo1/curvature.tsv")
 awk -v s="${sia:-nan}" 'BEGIN { exit !(s > 1) }' ||
     fail "curvature.tsv does not hold a row per step ($steps) ending with an SIA above 1 D (${sia:-none})"
-echo "reproducible_full: demo: $(awk '/^\$Nodes/ { getline; print $2; exit }' "$T/demo1/eye.msh") nodes," \
+echo "reproducible_full: demo: $(awk '$1 == "mesh" { print $2; exit }' "$T/demo1.log") nodes," \
      "the same mesh and curvature.tsv with 1 and 2 threads (SIA $sia D after $steps steps)"
 
 # 2. The quick nomogram study, locally and through GNU parallel, each from nothing.
