@@ -309,8 +309,10 @@ static void c_times_b_ss(int nv, const double *B, const double *C, double *CB)
 /* v(r, s) of B^T (CB) for a small-strain B: row r's three rows of B (b) against CB. */
 #define KT_SS_DOT(b, CB0, CB1, CB2, s) (((0.0 + (b)[0] * (CB0)[s]) + (b)[1] * (CB1)[s]) + (b)[2] * (CB2)[s])
 
-/* kt_fem_add_btcb for a small-strain B (the same sums, bit for bit). */
-static void add_btcb_ss(int nv, const double *B, const double *C, double w, double *Ke)
+/* Ke += w B^T C B for a small-strain B: kt_fem_add_btcb's sums, bit for bit, over B's nonzero
+ * rows only. lower: only the lower triangle (r >= s) is computed and mirrored (half the
+ * products; exactly symmetric, the same sums to rounding). */
+static void add_btcb_ss(int nv, const double *B, const double *C, double w, int lower, double *Ke)
 {
     int ld = 3 * nv;
     double CB[6 * 30];
@@ -319,8 +321,12 @@ static void add_btcb_ss(int nv, const double *B, const double *C, double w, doub
         const int *P = SS_ROWS[r % 3];
         const double b[3] = {B[P[0] * ld + r], B[P[1] * ld + r], B[P[2] * ld + r]};
         const double *CB0 = CB + P[0] * ld, *CB1 = CB + P[1] * ld, *CB2 = CB + P[2] * ld;
-        double *K = Ke + r * ld;
-        for (int s = 0; s < ld; s++) K[s] += w * KT_SS_DOT(b, CB0, CB1, CB2, s);
+        int end = lower ? r + 1 : ld;
+        for (int s = 0; s < end; s++) {
+            double v = KT_SS_DOT(b, CB0, CB1, CB2, s);
+            Ke[r * ld + s] += w * v;
+            if (lower && s != r) Ke[s * ld + r] += w * v;
+        }
     }
 }
 
@@ -436,7 +442,7 @@ int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *
         if (kt_fem_point_gradients(nv, x, &rule, q, g, &det, e)) return e->code;
         if (material) {
             kt_fem_strain_matrix(nv, g, NULL, B);
-            add_btcb_ss(nv, B, C, rule.w[q] * det, Ke);
+            add_btcb_ss(nv, B, C, rule.w[q] * det, 0, Ke);
         }
         if (td->sig)
             kt_fem_add_sigma(nv, g, td->sig + ((size_t)tet * KT_FEM_NQ + q) * 6, rule.w[q] * det, Ke);
@@ -449,25 +455,6 @@ int kt_fem_element(const kt_mesh *m, const kt_materials *mats, int tet, double *
     return KT_OK;
 }
 
-/* Ke += w B^T C B on the lower triangle (r >= s), mirrored, for a small-strain B: half the
- * products of add_btcb_ss (the same sums to rounding, exactly symmetric). */
-static void add_btcb_sym(int nv, const double *B, const double *C, double w, double *Ke)
-{
-    int ld = 3 * nv;
-    double CB[6 * 30];
-    c_times_b_ss(nv, B, C, CB);
-    for (int r = 0; r < ld; r++) {
-        const int *P = SS_ROWS[r % 3];
-        const double b[3] = {B[P[0] * ld + r], B[P[1] * ld + r], B[P[2] * ld + r]};
-        const double *CB0 = CB + P[0] * ld, *CB1 = CB + P[1] * ld, *CB2 = CB + P[2] * ld;
-        for (int s = 0; s <= r; s++) {
-            double v = KT_SS_DOT(b, CB0, CB1, CB2, s);
-            Ke[r * ld + s] += w * v;
-            if (s != r) Ke[s * ld + r] += w * v;
-        }
-    }
-}
-
 /* Quadrature point q's share of every data set: w B^T C_k B + the stress stiffness into Ke_k,
  * -w B^T sig_k into fe_k. */
 static void multi_point(int nv, double (*g)[3], const double *B, double w, int tet, int q,
@@ -477,7 +464,7 @@ static void multi_point(int nv, double (*g)[3], const double *B, double w, int t
     int ld = 3 * nv;
     for (int k = 0; k < nd; k++) {
         const double *sig = td[k]->sig ? td[k]->sig + ((size_t)tet * KT_FEM_NQ + q) * 6 : NULL;
-        if (Ke && material[k]) add_btcb_sym(nv, B, C + 36 * k, w, Ke + (size_t)k * ld * ld);
+        if (Ke && material[k]) add_btcb_ss(nv, B, C + 36 * k, w, 1, Ke + (size_t)k * ld * ld);
         if (Ke && sig) kt_fem_add_sigma(nv, g, sig, w, Ke + (size_t)k * ld * ld);
         for (int r = 0; fe && sig && r < ld; r++) {
             double s = 0;
