@@ -4,11 +4,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <SuiteSparse_config.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "augsolve_run.h"
 #include "util.h"
 
@@ -171,17 +166,5 @@ static int tool_main(int argc, char **argv)
 int main(int argc, char **argv)
 {
     kt_tool_start();
-    /* CHOLMOD's arrays (the factor above all) on transparent huge pages (util.h), set once
-     * before any CHOLMOD call; its free stays the C library's */
-    SuiteSparse_config.malloc_func = kt_huge_malloc;
-    SuiteSparse_config.calloc_func = kt_huge_calloc;
-    SuiteSparse_config.realloc_func = kt_huge_realloc;
-#ifdef _OPENMP
-    /* CHOLMOD (SuiteSparse 5) opens an OpenMP region of a fixed 4 threads for each large
-     * supernode's clearing and scatter (data-parallel loops: the numbers do not depend on the
-     * thread count); dynamic adjustment gives it at most the cores the load leaves free, instead
-     * of threads that spin and sleep on a busy 2-core machine */
-    omp_set_dynamic(1);
-#endif
     kt_exit(tool_main(argc, argv));
 }

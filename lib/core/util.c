@@ -3,6 +3,11 @@
 #include "util.h"
 #include "blas.h"
 
+#include <SuiteSparse_config.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -354,6 +359,18 @@ void kt_tool_start(void)
         }
     }
     kt_blas_pin(); /* the same answer on any machine, and no hang under ulimit -v (blas.h) */
+    /* CHOLMOD's arrays (the factor above all) on transparent huge pages (kt_huge_*), set once
+     * before any CHOLMOD call; their free stays the C library's */
+    SuiteSparse_config.malloc_func = kt_huge_malloc;
+    SuiteSparse_config.calloc_func = kt_huge_calloc;
+    SuiteSparse_config.realloc_func = kt_huge_realloc;
+#ifdef _OPENMP
+    /* CHOLMOD (SuiteSparse 5) opens an OpenMP region of a fixed 4 threads for each large
+     * supernode's clearing and scatter (data-parallel loops: the numbers do not depend on the
+     * thread count); dynamic adjustment gives it at most the cores the load leaves free, instead
+     * of threads that spin and sleep on a busy 2-core machine */
+    omp_set_dynamic(1);
+#endif
 }
 
 void kt_exit(int code)

@@ -78,7 +78,9 @@ void kt_out_abort(kt_out *o);
 /* At a tool's start: a closed standard stream (0, 1, 2) gets a descriptor on which every
  * read or write fails, so that no file the tool opens takes its number and an output to a
  * closed stdout is an error, not a write into that file. Then the BLAS is pinned to one
- * thread (kt_blas_pin, blas.h): the same answer on any machine, and no hang under ulimit -v. */
+ * thread (kt_blas_pin, blas.h): the same answer on any machine, and no hang under ulimit -v.
+ * CHOLMOD's allocations go through kt_huge_* (SuiteSparse_config's hooks), and its OpenMP
+ * regions are bounded by the free cores (omp_set_dynamic). */
 void kt_tool_start(void);
 
 /* A tool's end, with exit status code: stdio flushed, then _exit, skipping the libraries'
