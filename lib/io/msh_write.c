@@ -135,14 +135,10 @@ static void write_nodes(wr *w, const kt_mesh *m, int vol_tag)
         for (size_t i = 0; i < nn; i++) put_z(w, i + 1, '\n');
         if (w->bin) fwrite(m->xyz, sizeof(double), 3 * nn, w->f);
         else
-            for (size_t i = 0; i < nn; i++) { /* "%.17g %.17g %.17g\n", by kt_g17 */
-                char line[3 * KT_G17_MAX + 4];
-                size_t k = 0;
-                for (int c = 0; c < 3; c++) {
-                    k += (size_t)kt_g17(m->xyz[3 * i + c], line + k);
-                    line[k++] = c < 2 ? ' ' : '\n';
-                }
-                fwrite(line, 1, k, w->f);
+            for (size_t i = 0; i < nn; i++) {
+                put_d(w, m->xyz[3 * i], ' ');
+                put_d(w, m->xyz[3 * i + 1], ' ');
+                put_d(w, m->xyz[3 * i + 2], '\n');
             }
     }
     end_section(w, "Nodes");
