@@ -87,4 +87,42 @@ mk good
     || { echo "FAIL good run: outputs missing"; fails=$((fails + 1)); }
 ! ls -A "$tmp/good" | grep -q '\.tmp' || { echo "FAIL good run: temporary left"; fails=$((fails + 1)); }
 
+# The tables read back (io/tsv.h): a field that is not a number, a short row, a missing column
+# are exit 2 with one line naming file:line:col, never a value read as 0; CRLF ends read as LF.
+mk badstep; sed -i '3s/^[0-9]*/x1/' "$tmp/badstep/steps.tsv"
+expect_fail "steps.tsv: a step that is not a number" \
+    "steps.tsv:3:1: expected an integer from 0 to 1000000 in column step, found 'x1'" "$tmp/badstep" -- "$tmp/badstep"
+cp -r "$tmp/good" "$tmp/good2"
+"$B/curvature" --compare "$tmp/good" "$tmp/good2" -o "$tmp/cmp1" 2> "$tmp/stderr" && [ -s "$tmp/cmp1/compare.html" ] ||
+    { echo "FAIL --compare of two good runs: $(cat "$tmp/stderr")"; fails=$((fails + 1)); }
+# corrupt(DIR LINE COLUMN TEXT): the field of that column on that line of DIR/curvature.tsv set to
+# TEXT; prints the field's first byte in its line
+corrupt() {
+    cp -r "$tmp/good" "$tmp/$1"
+    awk -F'\t' -v OFS='\t' -v ln="$2" -v name="$3" -v txt="$4" -v out="$tmp/col" '
+        NR == 1 { for (i = 1; i <= NF; i++) if ($i == name) c = i }
+        NR == ln { b = 1; for (i = 1; i < c; i++) b += length($i) + 1; $c = txt; print b > out }
+        { print }' "$tmp/good/curvature.tsv" > "$tmp/$1/curvature.tsv"
+    cat "$tmp/col"
+}
+col=$(corrupt cyl 4 cyl_D 1.2.3)
+expect_fail "--compare: cyl_D not a number" "cyl/curvature.tsv:4:$col: expected a number in column cyl_D, found '1.2.3'" \
+    "$tmp/cyl" -- --compare "$tmp/good" "$tmp/cyl" -o "$tmp/out"
+col=$(corrupt emptysia 3 sia_D "")
+expect_fail "--compare: sia_D empty" "emptysia/curvature.tsv:3:$col: expected a number in column sia_D, found an empty field" \
+    "$tmp/emptysia" -- --compare "$tmp/emptysia" "$tmp/good" -o "$tmp/out"
+cp -r "$tmp/good" "$tmp/shortrow"; sed -i '3s/\t.*//' "$tmp/shortrow/curvature.tsv"
+len=$(sed -n 3p "$tmp/shortrow/curvature.tsv" | tr -d '\n' | wc -c)
+expect_fail "--compare: a short row" "shortrow/curvature.tsv:3:$((len + 1)): expected a field in column" \
+    "$tmp/shortrow" -- --compare "$tmp/good" "$tmp/shortrow" -o "$tmp/out"
+cp -r "$tmp/good" "$tmp/nocol"
+awk -F'\t' -v OFS='\t' 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "sia_D") c = i } { $c = "x"; print }' \
+    "$tmp/good/curvature.tsv" > "$tmp/nocol/curvature.tsv"
+expect_fail "--compare: no sia_D column" "nocol/curvature.tsv:1:1: expected a column sia_D (a table of curvature(1))" \
+    "$tmp/nocol" -- --compare "$tmp/good" "$tmp/nocol" -o "$tmp/out"
+sed -i 's/$/\r/' "$tmp/good2/curvature.tsv"
+"$B/curvature" --compare "$tmp/good" "$tmp/good2" -o "$tmp/cmp2" 2> "$tmp/stderr" &&
+    cmp -s "$tmp/cmp1/compare.html" "$tmp/cmp2/compare.html" ||
+    { echo "FAIL --compare of a CRLF table: not the same page $(cat "$tmp/stderr")"; fails=$((fails + 1)); }
+
 [ $fails -eq 0 ] && echo "curvature_errors: ok" || { echo "curvature_errors: $fails failed"; exit 1; }

@@ -48,8 +48,8 @@ int kt_curvrun_band_setup(run_ctx *c, kt_err *e)
             return kt_fail(e, KT_EINPUT, "%s:%d:1: expected a quantity that %s marks fd, found %s (%s)", o->sens,
                            r->line, path, r->param, k < 0 ? "not listed there" : method_name(c->uq.p[k].method));
         if (kt_band_reading_find(r->reading) < 0)
-            return kt_fail(e, KT_EINPUT, "%s:%d:2: expected a reading with a band (k_steep_D, flattening_D, sia_D, "
-                           "... see curvature(1)), found %s", o->sens, r->line, r->reading);
+            return kt_fail(e, KT_EINPUT, "%s:%d:%d: expected a reading with a band (k_steep_D, flattening_D, sia_D, "
+                           "... see curvature(1)), found %s", o->sens, r->line, (int)strlen(r->param) + 2, r->reading);
         if (r->step > last)
             return kt_fail(e, KT_EINPUT, "%s:%d: expected a step of the run (0 to %d), found step %d", o->sens, r->line,
                            last, r->step);

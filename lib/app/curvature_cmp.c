@@ -6,11 +6,13 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "curvature_run.h"
 
 #include "html.h"
 #include "svg.h"
+#include "tsv.h"
 #include "yml.h"
 
 #define NCOL 10
@@ -30,38 +32,29 @@ static double at(const cmp_run *r, int i, int c) { return r->v[(size_t)i * NCOL 
 
 static int read_table(cmp_run *r, kt_err *e)
 {
-    char path[4096], line[8192];
+    char path[4096];
     snprintf(path, sizeof path, "%s/curvature.tsv", r->dir);
-    FILE *f = fopen(path, "r");
-    if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot read (run curvature on %s first)", path, r->dir);
-    int idx[NCOL], ln = 0, cap = 0, rc = KT_OK;
-    for (int k = 0; k < NCOL; k++) idx[k] = -1;
-    while (rc == KT_OK && fgets(line, sizeof line, f)) {
-        char *save = NULL;
-        int k = 0;
-        ln++;
-        if (ln > 1 && r->n == cap) {
-            double *t = kt_realloc(r->v, (size_t)(cap = cap ? 2 * cap : 32) * NCOL, sizeof(double), e);
-            if (!t) { rc = e->code; break; }
-            r->v = t;
+    kt_tsv t;
+    if (access(path, F_OK) != 0)
+        return kt_fail(e, KT_EINPUT, "%s: cannot read (run curvature on %s first)", path, r->dir);
+    if (kt_tsv_open(&t, path, e)) return e->code;
+    int idx[NCOL], cap = 0;
+    for (int j = 0; j < NCOL && !e->code; j++) /* arc_deg: absent in older tables */
+        idx[j] = j == C_ARC ? kt_tsv_find(&t, COL[j]) : kt_tsv_need(&t, COL[j], "a table of curvature(1)");
+    while (!e->code && kt_tsv_next(&t) > 0) {
+        if (r->n == cap) {
+            double *v = kt_realloc(r->v, (size_t)(cap = cap ? 2 * cap : 32) * NCOL, sizeof(double), e);
+            if (!v) break;
+            r->v = v;
         }
-        for (char *t = strtok_r(line, "\t\n", &save); t; t = strtok_r(NULL, "\t\n", &save), k++)
-            for (int j = 0; j < NCOL; j++) {
-                if (ln == 1 && strcmp(t, COL[j]) == 0) idx[j] = k;
-                else if (ln > 1 && idx[j] == k) r->v[(size_t)r->n * NCOL + j] = strtod(t, NULL);
-            }
-        if (ln == 1) {
-            for (int j = 0; j < NCOL; j++)
-                if (idx[j] < 0 && j != C_ARC)
-                    rc = kt_fail(e, KT_EINPUT, "%s:1:1: expected the column %s (a table of curvature(1))", path, COL[j]);
-        } else {
-            if (idx[C_ARC] < 0) r->v[(size_t)r->n * NCOL + C_ARC] = NAN;
-            r->n++;
-        }
+        double *row = r->v + (size_t)r->n++ * NCOL;
+        for (int j = 0; j < NCOL && !e->code; j++)
+            if (idx[j] < 0) row[j] = NAN;
+            else kt_tsv_num(&t, idx[j], j == C_STEP ? 0 : KT_TSV_NAN | KT_TSV_INF, &row[j]);
     }
-    fclose(f);
-    if (rc == KT_OK && r->n < 2) rc = kt_fail(e, KT_EINPUT, "%s: expected step 0 and at least one step", path);
-    return rc;
+    kt_tsv_close(&t);
+    if (!e->code && r->n < 2) kt_fail(e, KT_EINPUT, "%s: expected step 0 and at least one step", path);
+    return e->code;
 }
 
 static void read_yaml(cmp_run *r)

@@ -18,6 +18,7 @@
 #include "msh.h"
 #include "plan.h"
 #include "axialmap.h"
+#include "tsv.h"
 #include "yml.h"
 
 #include "curvature_int.h"
@@ -324,26 +325,22 @@ static char *slurp(const char *path)
     return buf;
 }
 
-/* Sum of steps.tsv's t_total_ms column (NaN when absent). */
-static double solver_ms(const char *dir)
+/* *ms := the sum of steps.tsv's t_total_ms column (NaN when the file or the column is absent).
+ * KT_EINPUT on a field that is not a number. */
+static int solver_ms(const char *dir, double *ms, kt_err *e)
 {
-    char path[PATHMAX], line[4096];
-    if ((size_t)snprintf(path, sizeof path, "%s/steps.tsv", dir) >= sizeof path) return NAN;
-    FILE *f = fopen(path, "r");
-    if (!f) return NAN;
-    int col = -1, ln = 0;
-    double sum = 0;
-    while (fgets(line, sizeof line, f)) {
-        int k = 0;
-        char *save = NULL;
-        for (char *t = strtok_r(line, "\t\n", &save); t; t = strtok_r(NULL, "\t\n", &save), k++) {
-            if (ln == 0 && strcmp(t, "t_total_ms") == 0) col = k;
-            else if (ln > 0 && k == col) sum += strtod(t, NULL);
-        }
-        ln++;
-    }
-    fclose(f);
-    return col >= 0 ? sum : NAN;
+    char path[PATHMAX];
+    *ms = NAN;
+    if ((size_t)snprintf(path, sizeof path, "%s/steps.tsv", dir) >= sizeof path || access(path, F_OK) != 0)
+        return KT_OK;
+    kt_tsv t;
+    if (kt_tsv_open(&t, path, e)) return e->code;
+    int col = kt_tsv_find(&t, "t_total_ms");
+    double sum = 0, v;
+    while (col >= 0 && kt_tsv_next(&t) > 0 && kt_tsv_num(&t, col, KT_TSV_NAN | KT_TSV_INF, &v) == KT_OK) sum += v;
+    kt_tsv_close(&t);
+    if (col >= 0 && !e->code) *ms = sum;
+    return e->code;
 }
 
 /* The scalar text of key in a mapping (NULL: absent or not a scalar). */
@@ -439,7 +436,11 @@ int kt_curvrun_write_report(run_ctx *c, kt_err *e)
     r.rad_pre = c->res[0].map_radius, r.rad_post = c->res[c->nstep - 1].map_radius;
     r.zone = c->o->zone, r.fit_name = fitname, r.scale = &c->scale, r.diff_scale = &c->diff_scale;
     r.section = c->section.n > 0 ? &c->section : NULL;
-    r.solver_ms = c->o->run_dir ? solver_ms(c->o->run_dir) : NAN;
+    r.solver_ms = NAN;
+    if (c->o->run_dir && solver_ms(c->o->run_dir, &r.solver_ms, e)) {
+        free(run_yaml), free(st);
+        return e->code;
+    }
     r.curv_s = kt_now() - c->t0;
     r.n = &c->n;
     char verdict[512], note[512];

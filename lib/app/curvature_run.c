@@ -18,6 +18,7 @@
 #include "msh.h"
 #include "plan.h"
 #include "axialmap.h"
+#include "tsv.h"
 #include "yml.h"
 
 #include "curvature_int.h"
@@ -128,26 +129,23 @@ static int cmp_int(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Every step listed in steps.tsv must have its VTK. */
+/* Every step listed in steps.tsv (its column step) must have its VTK. */
 static int check_steps_tsv(const char *dir, const int *have, int nhave, kt_err *e)
 {
-    char path[PATHMAX], line[4096];
+    char path[PATHMAX];
     if (kt_curvrun_join(path, dir, "steps.tsv", e)) return e->code;
-    FILE *f = fopen(path, "r");
-    if (!f) return KT_OK; /* optional */
-    int ln = 0, rc = KT_OK;
-    while (rc == KT_OK && fgets(line, sizeof line, f)) {
-        if (++ln == 1 || line[0] == '#' || line[0] == '\n') continue; /* header */
-        char *end;
-        long s = strtol(line, &end, 10);
-        if (end == line || (*end != '\t' && *end != ' ' && *end != '\n'))
-            rc = kt_fail(e, KT_EINPUT, "%s:%d:1: expected a step number", path, ln);
-        else if (!bsearch(&(int){(int)s}, have, nhave, sizeof(int), cmp_int))
-            rc = kt_fail(e, KT_EINPUT, "%s:%d:1: step %ld is listed but %s/step-%04ld.vtk is missing",
-                         path, ln, s, dir, s);
-    }
-    fclose(f);
-    return rc;
+    if (access(path, F_OK) != 0) return KT_OK; /* optional */
+    kt_tsv t;
+    if (kt_tsv_open(&t, path, e)) return e->code;
+    int col = kt_tsv_need(&t, "step", "a table of augsolve(1)");
+    long long s;
+    while (col >= 0 && kt_tsv_next(&t) > 0 && kt_tsv_int(&t, col, 0, 1000000, &s) == KT_OK)
+        if (!bsearch(&(int){(int)s}, have, nhave, sizeof(int), cmp_int)) {
+            kt_tsv_fail(&t, col, "step %lld is listed but %s/step-%04lld.vtk is missing", s, dir, s);
+            break;
+        }
+    kt_tsv_close(&t);
+    return e->code;
 }
 
 static int list_steps(run_ctx *c, int declared, kt_err *e)

@@ -22,9 +22,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "curv_band.h"
 #include "lriplan_int.h"
+#include "tsv.h"
 
 /* The columns read from derivatives.tsv. */
 enum { D_STEP, D_PARAM, D_METHOD, D_SD, D_USED, D_SX, D_SY, D_N };
@@ -47,55 +49,48 @@ int kt_lri_band_read(const char *run, kt_lri_family *f, int skip, kt_err *e)
     char path[1300];
     if (snprintf(path, sizeof path, "%s/derivatives.tsv", run) >= (int)sizeof path)
         return kt_fail(e, KT_EINPUT, "%s/derivatives.tsv: path too long", run);
-    FILE *in = fopen(path, "r");
-    if (!in) return kt_fail(e, KT_ERUN, "%s: cannot open (the run was solved with augsolve --uncertainty)", path);
-    char line[8192];
-    int col[D_N], row = 0, rc = KT_OK;
-    for (int c = 0; c < D_N; c++) col[c] = -1;
-    while (rc == KT_OK && fgets(line, sizeof line, in)) {
-        row++;
-        char *tok[D_N] = {0};
-        int k = 0;
-        for (char *t = strtok(line, "\t\n"); t; t = strtok(NULL, "\t\n"), k++)
-            for (int c = 0; c < D_N; c++) {
-                if (row == 1 && strcmp(t, want[c]) == 0) col[c] = k;
-                if (row > 1 && col[c] == k) tok[c] = t;
-            }
-        if (row == 1) {
-            for (int c = 0; c < D_N; c++)
-                if (col[c] < 0) rc = kt_fail(e, KT_ERUN, "%s:1: expected a column %s", path, want[c]);
-            continue;
-        }
-        for (int c = 0; c < D_N; c++)
-            if (!tok[c]) rc = kt_fail(e, KT_ERUN, "%s:%d: expected column %s", path, row, want[c]);
-        if (rc) break;
-        int step = atoi(tok[D_STEP]), used = atoi(tok[D_USED]), at = step - skip;
+    if (access(path, F_OK) != 0)
+        return kt_fail(e, KT_ERUN, "%s: cannot open (the run was solved with augsolve --uncertainty)", path);
+    kt_tsv t;
+    if (kt_tsv_open(&t, path, e)) return e->code;
+    int col[D_N];
+    for (int c = 0; c < D_N && !e->code; c++) col[c] = kt_tsv_need(&t, want[c], "a table of curvature(1)");
+    while (!e->code && kt_tsv_next(&t) > 0) {
+        const char *param = kt_tsv_text(&t, col[D_PARAM]), *method = kt_tsv_text(&t, col[D_METHOD]);
+        long long step, used;
+        double sd, sx, sy;
+        if (!param || !method || kt_tsv_int(&t, col[D_STEP], 0, 1000000, &step) ||
+            kt_tsv_int(&t, col[D_USED], 0, 1, &used) || kt_tsv_num(&t, col[D_SD], KT_TSV_NAN | KT_TSV_INF, &sd))
+            break;
+        int at = (int)step - skip;
         if (!used) { /* as curvature's "left out": an fd quantity with a spread and no --sens row */
-            if (strcmp(tok[D_METHOD], "fd") == 0 && strtod(tok[D_SD], NULL) > 0) add_left(b, tok[D_PARAM]);
+            if (strcmp(method, "fd") == 0 && sd > 0) add_left(b, param);
             continue;
         }
         if (at < 0 || at > f->nstep) continue; /* step 0 before a simulated main incision's steps */
+        if (kt_tsv_num(&t, col[D_SX], KT_TSV_NAN | KT_TSV_INF, &sx) ||
+            kt_tsv_num(&t, col[D_SY], KT_TSV_NAN | KT_TSV_INF, &sy))
+            break;
         int q = 0;
-        while (q < b->nq && strcmp(b->q[q], tok[D_PARAM]) != 0) q++;
+        while (q < b->nq && strcmp(b->q[q], param) != 0) q++;
         if (q == b->nq) {
             if (q == KT_LRIPLAN_MAXQ) {
-                rc = kt_fail(e, KT_ERUN, "%s:%d: expected at most %d quantities", path, row, KT_LRIPLAN_MAXQ);
+                kt_tsv_fail(&t, col[D_PARAM], "expected at most %d quantities", KT_LRIPLAN_MAXQ);
                 break;
             }
-            snprintf(b->q[q], sizeof b->q[q], "%s", tok[D_PARAM]);
-            b->sd[q] = strtod(tok[D_SD], NULL);
+            snprintf(b->q[q], sizeof b->q[q], "%s", param);
+            b->sd[q] = sd;
             b->nq++;
         }
-        b->dsia[at][q][0] = strtod(tok[D_SX], NULL);
-        b->dsia[at][q][1] = strtod(tok[D_SY], NULL);
-        if (!isfinite(b->dsia[at][q][0]) || !isfinite(b->dsia[at][q][1]) || !(b->sd[q] >= 0))
-            rc = kt_fail(e, KT_ERUN, "%s:%d: the SIA's derivative along %s is not a number: numerical trouble in the "
-                         "band", path, row, b->q[q]);
+        b->dsia[at][q][0] = sx;
+        b->dsia[at][q][1] = sy;
+        if (!isfinite(sx) || !isfinite(sy) || !(b->sd[q] >= 0))
+            kt_fail(e, KT_ERUN, "%s:%d: the SIA's derivative along %s is not a number: numerical trouble in the "
+                    "band", path, t.line, b->q[q]);
     }
-    fclose(in);
-    if (rc == KT_OK && row < 1) rc = kt_fail(e, KT_ERUN, "%s: empty", path);
-    if (rc == KT_OK) b->on = 1;
-    return rc;
+    kt_tsv_close(&t);
+    if (!e->code) b->on = 1;
+    return e->code;
 }
 
 void kt_lri_band_of(const kt_lri_family *f, int k, kt_astig v, kt_lri_band *out)

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "augsolve_run.h"
 #include "curvature_run.h"
@@ -14,6 +15,7 @@
 #include "meshprep_run.h"
 #include "msh.h"
 #include "scene_write.h"
+#include "tsv.h"
 
 #define PATHLEN 1200
 
@@ -150,25 +152,22 @@ static int write_plan(const kt_lriplan_opts *o, const kt_lri_answer *a, const kt
  * steps after step 0 are the simulated main incision's (step 0 is kept as the intact eye). */
 static int read_table(const char *path, kt_lri_family *f, double step, int skip, kt_err *e)
 {
-    FILE *in = fopen(path, "r");
-    if (!in) return kt_fail(e, KT_ERUN, "%s: cannot open", path);
-    char line[8192];
-    int col[4] = {-1, -1, -1, -1}, row = -1;
     static const char *const want[4] = {"cyl_D", "axis_steep_deg", "total_cyl_D", "total_axis_deg"};
-    while (fgets(line, sizeof line, in)) {
-        double v[4] = {NAN, NAN, NAN, NAN};
-        int k = 0;
-        for (char *tok = strtok(line, "\t\n"); tok; tok = strtok(NULL, "\t\n"), k++)
-            for (int c = 0; c < 4; c++) {
-                if (row < 0 && strcmp(tok, want[c]) == 0) col[c] = k;
-                if (row >= 0 && col[c] == k) v[c] = strtod(tok, NULL);
-            }
+    if (access(path, F_OK) != 0) return kt_fail(e, KT_ERUN, "%s: cannot open", path);
+    kt_tsv t;
+    if (kt_tsv_open(&t, path, e)) return e->code;
+    int col[4], row = 0;
+    for (int c = 0; c < 4 && !e->code; c++) col[c] = kt_tsv_need(&t, want[c], "a table of curvature(1)");
+    while (!e->code && kt_tsv_next(&t) > 0) {
+        double v[4];
+        for (int c = 0; c < 4 && !e->code; c++) kt_tsv_num(&t, col[c], KT_TSV_NAN | KT_TSV_INF, &v[c]);
+        if (e->code) break;
         if (row == 0) {
             f->kerato_intact.mag = v[0], f->kerato_intact.axis = v[1];
             f->total_intact.mag = v[2], f->total_intact.axis = v[3];
         }
         int at = row - skip;
-        if (row >= 0 && at >= 0 && at <= KT_LRIPLAN_MAXSTEP) {
+        if (at >= 0 && at <= KT_LRIPLAN_MAXSTEP) {
             f->kerato[at].mag = v[0], f->kerato[at].axis = v[1];
             f->total[at].mag = v[2], f->total[at].axis = v[3];
             f->arc[at] = at * step;
@@ -176,11 +175,10 @@ static int read_table(const char *path, kt_lri_family *f, double step, int skip,
         }
         row++;
     }
-    fclose(in);
-    if (col[0] < 0 || col[3] < 0 || row - 1 != f->nstep + skip)
-        return kt_fail(e, KT_ERUN, "%s: expected the columns cyl_D ... total_axis_deg and %d steps, found %d", path,
-                       f->nstep + skip, row - 1);
-    return KT_OK;
+    kt_tsv_close(&t);
+    if (!e->code && row - 1 != f->nstep + skip)
+        kt_fail(e, KT_ERUN, "%s: expected %d steps after step 0, found %d", path, f->nstep + skip, row - 1);
+    return e->code;
 }
 
 /* kind 0: one arc on the steeper half; 1: an equal pair; 2: an unequal pair, the longer arc on

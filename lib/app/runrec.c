@@ -6,8 +6,10 @@
 #include <metis.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "runrec.h"
+#include "tsv.h"
 
 int kt_runrec_file_hash(const char *path, uint64_t *hash, long *nbytes, kt_err *e)
 {
@@ -33,39 +35,35 @@ typedef struct tsv_figs {
     double nnz_L, residual, t_ms;
 } tsv_figs;
 
-static void read_steps_tsv(const char *run_dir, tsv_figs *t)
+static int read_steps_tsv(const char *run_dir, tsv_figs *t, kt_err *e)
 {
-    char path[4096], line[4096];
+    char path[4096];
     memset(t, 0, sizeof *t);
     t->nnz_L = t->residual = t->t_ms = NAN;
-    if ((size_t)snprintf(path, sizeof path, "%s/steps.tsv", run_dir) >= sizeof path) return;
-    FILE *f = fopen(path, "r");
-    if (!f) return;
-    int col[3] = {-1, -1, -1}, ln = 0;
+    if ((size_t)snprintf(path, sizeof path, "%s/steps.tsv", run_dir) >= sizeof path || access(path, F_OK) != 0)
+        return KT_OK;
+    kt_tsv in;
+    if (kt_tsv_open(&in, path, e)) return e->code;
     static const char *const NAME[3] = {"nnz_L", "rel_residual", "t_total_ms"};
+    int col[3];
     double v[3] = {0, 0, 0};
     int seen[3] = {0, 0, 0};
-    while (fgets(line, sizeof line, f)) {
-        char *save = NULL;
-        int k = 0;
-        for (char *tok = strtok_r(line, "\t\n", &save); tok; tok = strtok_r(NULL, "\t\n", &save), k++)
-            for (int j = 0; j < 3; j++) {
-                if (ln == 0 && strcmp(tok, NAME[j]) == 0) col[j] = k;
-                else if (ln > 0 && k == col[j]) {
-                    char *end;
-                    double x = strtod(tok, &end);
-                    if (end == tok || !isfinite(x)) continue; /* "-" or NaN: not measured */
-                    v[j] = j == 2 ? v[j] + x : seen[j] ? fmax(v[j], x) : x;
-                    seen[j] = 1;
-                }
-            }
-        ln++;
+    for (int j = 0; j < 3; j++) col[j] = kt_tsv_find(&in, NAME[j]);
+    while (!e->code && kt_tsv_next(&in) > 0) {
+        t->rows++;
+        for (int j = 0; j < 3 && !e->code; j++) {
+            double x;
+            if (col[j] < 0 || kt_tsv_num(&in, col[j], KT_TSV_NAN | KT_TSV_INF, &x) || !isfinite(x))
+                continue; /* NaN: not measured */
+            v[j] = j == 2 ? v[j] + x : seen[j] ? fmax(v[j], x) : x;
+            seen[j] = 1;
+        }
     }
-    fclose(f);
-    t->rows = ln > 0 ? ln - 1 : 0;
+    kt_tsv_close(&in);
     if (seen[0]) t->nnz_L = v[0];
     if (seen[1]) t->residual = v[1];
     if (seen[2]) t->t_ms = v[2];
+    return e->code;
 }
 
 static void num(FILE *f, const char *key, double v, const char *fmt)
@@ -126,7 +124,7 @@ int kt_runrec_write(FILE *f, const char *run_dir, const kt_scene *sc, kt_err *e)
     kt_err e2 = {0};
     int have_scene = kt_runrec_file_hash(sc->path, &sh, &sn, &e2) == KT_OK;
     tsv_figs t;
-    read_steps_tsv(run_dir, &t);
+    if (read_steps_tsv(run_dir, &t, e)) return e->code;
     fputs("provenance:                  # what was solved, by what (augsolve(1), RUN FOLDER)\n", f);
     fprintf(f, "  keratome: \"%s\"\n  cholmod: \"%d.%d.%d\"\n  metis: \"%d.%d.%d\"\n", KT_VERSION,
             CHOLMOD_MAIN_VERSION, CHOLMOD_SUB_VERSION, CHOLMOD_SUBSUB_VERSION, METIS_VER_MAJOR,

@@ -15,7 +15,8 @@ int kt_runrec_file_hash(const char *path, uint64_t *hash, long *nbytes, kt_err *
 
 /* Append the `provenance:` mapping to run.yaml being written on f: sc is the scene as loaded,
  * run_dir the folder whose steps.tsv is complete.
- * Fails (KT_ERUN) only when the scene file can no longer be read or a write fails. */
+ * Fails (KT_ERUN) only when the scene file can no longer be read or a write fails, and
+ * (KT_EINPUT, "file:line:col: expected ...") when steps.tsv holds a field that is not a number. */
 int kt_runrec_write(FILE *f, const char *run_dir, const kt_scene *sc, kt_err *e);
 
 #endif

@@ -11,15 +11,26 @@
 #include <sys/stat.h>
 
 /* 1 when the text at b (n bytes) cannot begin with magic: after a UTF-8 byte-order mark and
- * blanks, its first bytes differ (0 while too few bytes were read to tell). */
+ * blanks, its first bytes differ (0 while too few bytes were read to tell). Without a magic
+ * (""), a text of any kind: a NUL byte among the first n is wrong. */
 static int wrong_start(const unsigned char *b, size_t n, const char *magic, int at_end)
 {
     size_t i = n >= 3 && memcmp(b, "\xef\xbb\xbf", 3) == 0 ? 3 : 0, k = strlen(magic);
+    if (k == 0 && memchr(b, '\0', n)) return 1;
     while (i < n && kt_cursor_is_ws(b[i])) i++;
     if (i == n) return at_end;
     size_t m = n - i < k ? n - i : k;
     if (memcmp(b + i, magic, m) != 0) return 1;
     return at_end && m < k;
+}
+
+/* b reallocated to nc bytes (*cap := nc); NULL, b freed, when memory runs out. */
+static unsigned char *grow(unsigned char *b, size_t *cap, size_t nc, kt_err *e)
+{
+    unsigned char *nb = kt_realloc(b, nc, 1, e);
+    if (!nb) free(b);
+    else *cap = nc;
+    return nb;
 }
 
 int kt_cursor_open(kt_cursor *c, const char *path, const char *magic, size_t max, kt_err *e)
@@ -30,30 +41,27 @@ int kt_cursor_open(kt_cursor *c, const char *path, const char *magic, size_t max
     FILE *f = strcmp(path, "-") == 0 ? stdin : fopen(path, "rb");
     if (!f) return kt_fail(e, KT_EINPUT, "%s: cannot open: %s", c->path, strerror(errno));
     struct stat st;
-    int rc = KT_OK;
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode))
+    int rc = KT_OK, have = fstat(fileno(f), &st) == 0;
+    if (have && S_ISDIR(st.st_mode))
         rc = kt_fail(e, KT_EINPUT, "%s: cannot read: is a directory", c->path);
-    else if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && (unsigned long long)st.st_size > max)
+    else if (have && S_ISREG(st.st_mode) && (unsigned long long)st.st_size > max)
         rc = kt_fail(e, KT_EINPUT, "%s: expected a file of at most %zu bytes, found %lld", c->path,
                      max, (long long)st.st_size);
-    size_t cap = 1 << 16, n = 0;
+    /* A regular file's buffer is sized from its size once its start is checked (+2: its NUL and
+     * one byte more, so that the read meets the end without growing it); a stream's, or a file
+     * that grows while read, by doubling. */
+    size_t whole = have && S_ISREG(st.st_mode) && !rc ? (size_t)st.st_size + 2 : 0;
+    size_t cap = whole && whole < (1 << 16) ? whole : 1 << 16, n = 0;
     unsigned char *b = rc ? NULL : kt_calloc(cap, 1, e);
     int checked = 0;
     while (b) {
-        if (n + 1 >= cap) {
-            unsigned char *nb = kt_realloc(b, cap * 2, 1, e);
-            if (!nb) {
-                free(b);
-                b = NULL;
-                break;
-            }
-            b = nb, cap *= 2;
-        }
+        if (n + 1 >= cap && !(b = grow(b, &cap, cap * 2, e))) break;
         size_t got = fread(b + n, 1, cap - 1 - n, f);
         n += got;
         if (!checked && (n >= 64 || got == 0)) {
             checked = 1; /* wrong from the start: the parser's error names it, read no more */
             if (wrong_start(b, n, magic, got == 0)) break;
+            if (whole > cap && !(b = grow(b, &cap, whole, e))) break; /* right: the whole file */
         }
         if (got == 0) break;
         if (n > max) {

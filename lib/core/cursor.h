@@ -20,7 +20,9 @@ typedef struct kt_cursor {
  * refused before reading, a stream once it passes max. A file whose text does not begin with
  * magic (after a UTF-8 byte-order mark, which is skipped, and blanks) is read no further than
  * its first bytes, so /dev/zero or an endless pipe of anything else ends at once, the parser
- * then naming what it found at line 1. KT_EINPUT when it cannot be opened or read (a
+ * then naming what it found at line 1; with magic "" (text of any kind), one with a NUL byte
+ * among its first bytes. A regular file is read into a buffer of its size, a stream into one
+ * that doubles. KT_EINPUT when it cannot be opened or read (a
  * directory), or is too large. */
 int kt_cursor_open(kt_cursor *c, const char *path, const char *magic, size_t max, kt_err *e);
 void kt_cursor_close(kt_cursor *c);

@@ -1,6 +1,7 @@
 /* benchtab.c: step tables of benchmark runs -> the Markdown table of the planned method's
  * benchmark (conventions in benchtab.h). */
 #include "benchtab.h"
+#include "tsv.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -41,7 +42,7 @@ static int split_tabs(char *line, char **f, int max)
     return n;
 }
 
-enum { COL_STEP, COL_T, COL_NNZ, COL_VERIFY, COL_STATUS, NCOL, MAXF = 64 };
+enum { COL_STEP, COL_T, COL_NNZ, COL_VERIFY, COL_STATUS, NCOL };
 static const char *const COL_NAME[NCOL] = {"step", "t_total_ms", "nnz_L", "t_verify_ms", "status"};
 
 static int grow(kt_bench_run *r, int cap, kt_err *e)
@@ -60,26 +61,24 @@ static int grow(kt_bench_run *r, int cap, kt_err *e)
     return e->code;
 }
 
-/* One data row into r->...[r->n]. */
-static int row(kt_bench_run *r, char **f, int nf, const int *col, const char *path, int line,
-               kt_err *e)
+/* The current row of t into r->...[r->n]: a number, "NaN" or an empty field (NaN) in each
+ * column of col, the step an integer. */
+static int row(kt_bench_run *r, kt_tsv *t, const int *col, kt_err *e)
 {
     double v[NCOL];
-    for (int k = 0; k < NCOL; k++) {
+    long long step;
+    if (kt_tsv_int(t, col[COL_STEP], 0, 1000000000, &step)) return e->code;
+    for (int k = COL_T; k < COL_STATUS; k++) {
+        const char *s = col[k] < 0 ? "" : kt_tsv_text(t, col[k]);
         v[k] = NAN;
-        if (col[k] < 0 || k == COL_STATUS) continue;
-        if (col[k] >= nf || field_num(f[col[k]], &v[k]))
-            return kt_fail(e, KT_EINPUT, "%s:%d: expected a number in column %s", path, line,
-                           COL_NAME[k]);
+        if (!s || (*s && kt_tsv_num(t, col[k], KT_TSV_NAN | KT_TSV_INF, &v[k]))) return e->code;
     }
-    if (!(v[COL_STEP] >= 0) || v[COL_STEP] != floor(v[COL_STEP]) || v[COL_STEP] > 1e9)
-        return kt_fail(e, KT_EINPUT, "%s:%d: expected a step number >= 0", path, line);
     int i = r->n++;
-    r->step[i] = (int)v[COL_STEP];
+    r->step[i] = (int)step;
     r->t[i] = v[COL_T];
     r->nnz_L[i] = v[COL_NNZ];
     r->t_verify[i] = v[COL_VERIFY];
-    r->ok[i] = !(col[COL_STATUS] >= 0 && col[COL_STATUS] < nf && strcmp(f[col[COL_STATUS]], "ok"));
+    r->ok[i] = !(col[COL_STATUS] >= 0 && col[COL_STATUS] < t->nf && strcmp(t->f[col[COL_STATUS]], "ok"));
     if (isnan(r->t[i])) r->ok[i] = 0;
     return KT_OK;
 }
@@ -89,27 +88,16 @@ int kt_bench_run_read(kt_bench_run *r, const char *label, const char *path, kt_e
     memset(r, 0, sizeof *r);
     snprintf(r->label, sizeof r->label, "%s", label);
     r->peak_mb = NAN;
-    FILE *in = fopen(path, "r");
-    if (!in) return kt_fail(e, KT_EINPUT, "%s: cannot open the step table", path);
-    char buf[8192], *f[MAXF];
-    int col[NCOL], line = 0, cap = 0;
-    for (int k = 0; k < NCOL; k++) col[k] = -1;
-    while (!e->code && fgets(buf, sizeof buf, in)) {
-        int nf = split_tabs(buf, f, MAXF);
-        if (++line == 1) {
-            for (int q = 0; q < nf; q++)
-                for (int k = 0; k < NCOL; k++)
-                    if (strcmp(f[q], COL_NAME[k]) == 0) col[k] = q;
-            if (col[COL_STEP] < 0 || col[COL_T] < 0)
-                kt_fail(e, KT_EINPUT, "%s:1: expected a header with the columns step and "
-                        "t_total_ms", path);
-            continue;
-        }
+    kt_tsv t;
+    if (kt_tsv_open(&t, path, e)) return e->code;
+    int col[NCOL], cap = 0;
+    for (int k = 0; k < NCOL && !e->code; k++)
+        col[k] = k <= COL_T ? kt_tsv_need(&t, COL_NAME[k], "a step table") : kt_tsv_find(&t, COL_NAME[k]);
+    while (!e->code && kt_tsv_next(&t) > 0) {
         if (r->n == cap && grow(r, cap = cap ? 2 * cap : 64, e)) break;
-        row(r, f, nf, col, path, line, e);
+        row(r, &t, col, e);
     }
-    fclose(in);
-    if (!e->code && line == 0) kt_fail(e, KT_EINPUT, "%s:1: expected a header line", path);
+    kt_tsv_close(&t);
     return e->code;
 }
 

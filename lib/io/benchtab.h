@@ -35,8 +35,9 @@ typedef struct kt_bench_run {
     double peak_mb;             /* peak resident memory, MB (NaN: unknown) */
 } kt_bench_run;
 
-/* Read a step table (header line with at least "step" and "t_total_ms"; "nnz_L",
- * "t_verify_ms" and "status" are optional). Bad input is KT_EINPUT "path:line: expected ...". */
+/* Read a step table (tsv.h; header line with at least "step" and "t_total_ms"; "nnz_L",
+ * "t_verify_ms" and "status" are optional; a time or nnz_L field "NaN" or empty is NaN). Bad
+ * input is KT_EINPUT "path:line:col: expected ...". */
 int kt_bench_run_read(kt_bench_run *r, const char *label, const char *path, kt_err *e);
 /* Peak memory from a /usr/bin/time record: "-v" output ("Maximum resident set size (kbytes):
  * N") or bench.sh's "-f '%U\t%S\t%M'" line. */

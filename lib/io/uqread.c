@@ -4,26 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "tsv.h"
 #include "uqread.h"
-
-#define MAXF 16
-#define LINE_MAX_BYTES 8192
-
-/* Split a line (its '\n' and a '\r' before it dropped) at tabs: at most MAXF fields. */
-static int split(char *s, char **f)
-{
-    size_t len = strlen(s);
-    while (len > 0 && (s[len - 1] == '\n' || s[len - 1] == '\r')) s[--len] = '\0';
-    int n = 0;
-    for (char *p = s;; p++) {
-        if (n == MAXF) return MAXF + 1;
-        f[n++] = p;
-        p = strchr(p, '\t');
-        if (!p) break;
-        *p = '\0';
-    }
-    return n;
-}
 
 static int ident(const char *s)
 {
@@ -33,96 +15,58 @@ static int ident(const char *s)
     return 1;
 }
 
-/* Read the lines of path, calling row() for each after the header; cols names the header's
- * columns (the first ncol required in order, then optional ones). */
-typedef int (*row_fn)(void *ctx, const char *path, int line, char **f, int nf, const int *col, kt_err *e);
+/* Read the rows of path, calling row() for each after the header; cols names the header's
+ * columns (the first nreq required, in this order at its start, then optional ones: col[k] their
+ * index, -1 when absent). Every row has as many fields as the header. */
+typedef int (*row_fn)(void *ctx, kt_tsv *t, const int *col, kt_err *e);
 
 static int read_table(const char *path, const char *const *cols, int nreq, int nopt, int *col, row_fn row, void *ctx,
                       kt_err *e)
 {
-    FILE *fp = fopen(path, "r");
-    if (!fp) return kt_fail(e, KT_EINPUT, "%s: cannot open", path);
-    char *buf = NULL, *f[MAXF + 1];
-    size_t cap = 0;
-    int line = 0, rc = KT_OK, nhead = 0, rows = 0;
-    for (;;) {
-        long got = kt_line_read(fp, &buf, &cap, LINE_MAX_BYTES, e);
-        if (got == -1) break;
-        line++;
-        if (got == -4) { rc = e->code; break; }
-        if (got < 0) {
-            rc = kt_fail(e, KT_EINPUT, "%s:%d: expected a text line (%s)", path, line,
-                         got == -2 ? "found a NUL byte" : "line too long");
-            break;
+    kt_tsv t;
+    if (kt_tsv_open(&t, path, e)) return e->code;
+    for (int k = 0; k < nreq + nopt && !e->code; k++)
+        if ((col[k] = kt_tsv_find(&t, cols[k])) >= 0) col[k] = kt_tsv_need(&t, cols[k], NULL); /* not twice */
+    for (int k = 0; k < nreq && !e->code; k++)
+        if (col[k] != k) {
+            char want[256] = "";
+            for (int j = 0; j < nreq; j++) strcat(strcat(want, j ? "\\t" : ""), cols[j]);
+            kt_fail(e, KT_EINPUT, "%s:1:1: expected the header %s%s", t.c.path, want, nopt ? " (and optional columns)" : "");
         }
-        int nf = split(buf, f);
-        if (nf > MAXF) {
-            rc = kt_fail(e, KT_EINPUT, "%s:%d: expected at most %d tab-separated fields", path, line, MAXF);
-            break;
-        }
-        if (line == 1) {
-            nhead = nf;
-            for (int k = 0; k < nreq + nopt; k++) col[k] = -1;
-            for (int i = 0; i < nf; i++)
-                for (int k = 0; k < nreq + nopt; k++)
-                    if (strcmp(f[i], cols[k]) == 0) {
-                        if (col[k] >= 0) {
-                            rc = kt_fail(e, KT_EINPUT, "%s:1: column '%s' given twice", path, cols[k]);
-                            goto out;
-                        }
-                        col[k] = i;
-                    }
-            for (int k = 0; k < nreq; k++)
-                if (col[k] != k) {
-                    char want[256] = "";
-                    for (int j = 0; j < nreq; j++) strcat(strcat(want, j ? "\\t" : ""), cols[j]);
-                    rc = kt_fail(e, KT_EINPUT, "%s:1: expected the header %s%s", path, want,
-                                 nopt ? " (and optional columns)" : "");
-                    goto out;
-                }
-            continue;
-        }
-        if (nf == 1 && f[0][0] == '\0') continue; /* an empty line */
-        if (nf != nhead) {
-            rc = kt_fail(e, KT_EINPUT, "%s:%d: expected %d tab-separated fields as the header, found %d", path, line,
-                         nhead, nf);
-            break;
-        }
-        if ((rc = row(ctx, path, line, f, nf, col, e)) != KT_OK) break;
-        rows++;
+    while (!e->code && kt_tsv_next(&t) > 0) {
+        if (t.nf != t.nhead)
+            kt_tsv_fail(&t, t.nf < t.nhead ? t.nf : t.nhead, "expected %d tab-separated fields as the header, found %d",
+                        t.nhead, t.nf);
+        else row(ctx, &t, col, e);
     }
-    if (rc == KT_OK && line == 0) rc = kt_fail(e, KT_EINPUT, "%s:1: expected a header line, found an empty file", path);
-out:
-    if (rc == KT_OK && ferror(fp)) rc = kt_fail(e, KT_EINPUT, "%s: read error", path);
-    free(buf);
-    fclose(fp);
-    (void)rows;
-    return rc;
+    kt_tsv_close(&t);
+    return e->code;
 }
 
 /* ---------------------------------------------------------------- uncertainty.tsv */
 
-static int table_row(void *ctx, const char *path, int line, char **f, int nf, const int *col, kt_err *e)
+static int table_row(void *ctx, kt_tsv *in, const int *col, kt_err *e)
 {
-    (void)nf, (void)col;
+    (void)col;
     kt_uq_table *t = ctx;
+    char **f = in->f;
     if (!ident(f[0]))
-        return kt_fail(e, KT_EINPUT, "%s:%d:1: expected a param name of letters, digits and _ (at most %d), found '%s'",
-                       path, line, KT_UQ_NAME - 1, f[0]);
-    if (kt_uq_table_find(t, f[0]) >= 0) return kt_fail(e, KT_EINPUT, "%s:%d:1: param %s given twice", path, line, f[0]);
-    if (strlen(f[1]) >= KT_UQ_NAME) return kt_fail(e, KT_EINPUT, "%s:%d:2: expected a unit (at most %d characters)", path, line, KT_UQ_NAME - 1);
+        return kt_tsv_fail(in, 0, "expected a param name of letters, digits and _ (at most %d), found '%s'",
+                           KT_UQ_NAME - 1, f[0]);
+    if (kt_uq_table_find(t, f[0]) >= 0) return kt_tsv_fail(in, 0, "param %s given twice", f[0]);
+    if (strlen(f[1]) >= KT_UQ_NAME) return kt_tsv_fail(in, 1, "expected a unit (at most %d characters)", KT_UQ_NAME - 1);
     kt_uq_param p;
     memset(&p, 0, sizeof p);
     strcpy(p.name, f[0]);
     strcpy(p.unit, f[1]);
     if (kt_parse_double(f[2], &p.value) || !isfinite(p.value))
-        return kt_fail(e, KT_EINPUT, "%s:%d:3: expected the value as a finite number, found '%s'", path, line, f[2]);
+        return kt_tsv_fail(in, 2, "expected the value as a finite number, found '%s'", f[2]);
     if (kt_parse_double(f[3], &p.sd) || !isfinite(p.sd) || p.sd < 0)
-        return kt_fail(e, KT_EINPUT, "%s:%d:4: expected the sd as a finite number >= 0, found '%s'", path, line, f[3]);
+        return kt_tsv_fail(in, 3, "expected the sd as a finite number >= 0, found '%s'", f[3]);
     if (strcmp(f[4], "derivative") == 0) p.method = KT_UQ_DERIVATIVE;
     else if (strcmp(f[4], "fd") == 0) p.method = KT_UQ_FD;
     else if (strcmp(f[4], "none") == 0) p.method = KT_UQ_NONE;
-    else return kt_fail(e, KT_EINPUT, "%s:%d:5: expected the method derivative, fd or none, found '%s'", path, line, f[4]);
+    else return kt_tsv_fail(in, 4, "expected the method derivative, fd or none, found '%s'", f[4]);
     snprintf(p.source, sizeof p.source, "%s", f[5]);
     kt_uq_param *q = kt_realloc(t->p, (size_t)t->n + 1, sizeof *q, e);
     if (!q) return e->code;
@@ -156,29 +100,26 @@ int kt_uq_table_find(const kt_uq_table *t, const char *name)
 
 /* ---------------------------------------------------------------- --sens */
 
-static int sens_row(void *ctx, const char *path, int line, char **f, int nf, const int *col, kt_err *e)
+static int sens_row(void *ctx, kt_tsv *in, const int *col, kt_err *e)
 {
-    (void)nf;
     kt_uq_sens *s = ctx;
     kt_uq_sens_row r;
+    char **f = in->f;
     memset(&r, 0, sizeof r);
-    r.line = line;
-    if (!ident(f[0]))
-        return kt_fail(e, KT_EINPUT, "%s:%d:1: expected a param name of letters, digits and _, found '%s'", path, line, f[0]);
-    if (!ident(f[1]))
-        return kt_fail(e, KT_EINPUT, "%s:%d:2: expected a reading (a curvature.tsv column), found '%s'", path, line, f[1]);
+    r.line = in->line;
+    if (!ident(f[0])) return kt_tsv_fail(in, 0, "expected a param name of letters, digits and _, found '%s'", f[0]);
+    if (!ident(f[1])) return kt_tsv_fail(in, 1, "expected a reading (a curvature.tsv column), found '%s'", f[1]);
     strcpy(r.param, f[0]);
     strcpy(r.reading, f[1]);
     if (kt_parse_double(f[2], &r.dr_dp) || !isfinite(r.dr_dp))
-        return kt_fail(e, KT_EINPUT, "%s:%d:3: expected dR_dp as a finite number, found '%s'", path, line, f[2]);
+        return kt_tsv_fail(in, 2, "expected dR_dp as a finite number, found '%s'", f[2]);
     r.step = -1;
     if (col[3] >= 0 && (kt_parse_int(f[col[3]], &r.step) || r.step < 0))
-        return kt_fail(e, KT_EINPUT, "%s:%d:%d: expected a step number >= 0, found '%s'", path, line, col[3] + 1,
-                       f[col[3]]);
+        return kt_tsv_fail(in, col[3], "expected a step number >= 0, found '%s'", f[col[3]]);
     for (int i = 0; i < s->n; i++)
         if (strcmp(s->r[i].param, r.param) == 0 && strcmp(s->r[i].reading, r.reading) == 0 && s->r[i].step == r.step)
-            return kt_fail(e, KT_EINPUT, "%s:%d:1: %s / %s%s given twice (first on line %d)", path, line, r.param,
-                           r.reading, r.step >= 0 ? " at this step" : "", s->r[i].line);
+            return kt_tsv_fail(in, 0, "%s / %s%s given twice (first on line %d)", r.param, r.reading,
+                               r.step >= 0 ? " at this step" : "", s->r[i].line);
     kt_uq_sens_row *q = kt_realloc(s->r, (size_t)s->n + 1, sizeof *q, e);
     if (!q) return e->code;
     s->r = q;

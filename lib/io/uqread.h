@@ -5,7 +5,8 @@
  *   the --sens file      finite-difference derivatives of readings for the `fd` quantities,
  *                        header `param reading dR_dp` and an optional `step` column (the step
  *                        the row is for; without it a row holds for every step after step 0).
- * Bad input is KT_EINPUT "file:line: expected ...", nothing kept. */
+ * Read by tsv.h. Bad input is KT_EINPUT "file:line:col: expected ..." (col: the field's first
+ * byte in its line), nothing kept. */
 #ifndef KT_UQREAD_H
 #define KT_UQREAD_H
 

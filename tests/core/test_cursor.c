@@ -195,6 +195,15 @@ static void test_bounds(void)
     CHECK(kt_cursor_open(&c, path, "$MeshFormat", (size_t)1 << 32, &e) == KT_OK, "%s", e.msg);
     CHECK(c.n < sizeof big, "a wrong start: %zu of %zu bytes read", c.n, sizeof big);
     kt_cursor_close(&c);
+    /* a regular file is read whole into a buffer of its size (fstat), bytes as written */
+    CHECK(kt_cursor_open(&c, path, "", (size_t)1 << 32, &e) == KT_OK, "%s", e.msg);
+    CHECK(c.n == sizeof big && c.b[c.n] == '\0' && memcmp(c.b, big, sizeof big) == 0, "whole file: %zu of %zu bytes",
+          c.n, sizeof big);
+    kt_cursor_close(&c);
+    /* without a magic, text of any kind: /dev/zero's NUL bytes end the read at once */
+    CHECK(kt_cursor_open(&c, "/dev/zero", "", (size_t)1 << 32, &e) == KT_OK, "%s", e.msg);
+    CHECK(c.n > 0 && c.n <= (1 << 17), "/dev/zero without a magic: %zu bytes read", c.n);
+    kt_cursor_close(&c);
     kt_err e2 = {0};
     CHECK(kt_cursor_open(&c, path, "", 1000, &e2) == KT_EINPUT && strstr(e2.msg, "at most 1000 bytes"),
           "'%s'", e2.msg);

@@ -118,16 +118,16 @@ static void test_errors(void)
     kt_err e = {0};
     kt_bench_run r;
     kt_bench_run_read(&r, "x", put("b1.tsv", "step\tt_total_ms\n0\t1\n1\tabc\n"), &e);
-    CHECK(e.code == KT_EINPUT && strstr(e.msg, "b1.tsv:3: expected a number in column t_total_ms"),
+    CHECK(e.code == KT_EINPUT && strstr(e.msg, "b1.tsv:3:3: expected a number in column t_total_ms, found 'abc'"),
           "%s", e.msg);
     kt_bench_run_free(&r);
     e = (kt_err){0};
     kt_bench_run_read(&r, "x", put("b2.tsv", "n_dofs\tt_total_ms\n"), &e);
-    CHECK(e.code == KT_EINPUT && strstr(e.msg, "b2.tsv:1: expected a header"), "%s", e.msg);
+    CHECK(e.code == KT_EINPUT && strstr(e.msg, "b2.tsv:1:1: expected a column step"), "%s", e.msg);
     kt_bench_run_free(&r);
     e = (kt_err){0};
     kt_bench_run_read(&r, "x", put("b3.tsv", "step\tt_total_ms\n-1\t4\n"), &e);
-    CHECK(e.code == KT_EINPUT && strstr(e.msg, "b3.tsv:2: expected a step number"), "%s", e.msg);
+    CHECK(e.code == KT_EINPUT && strstr(e.msg, "b3.tsv:2:1: expected an integer from 0 to 1000000000 in column step, found '-1'"), "%s", e.msg);
     kt_bench_run_free(&r);
     e = (kt_err){0};
     kt_bench_run_read(&r, "x", put("b4.tsv", "step\tt_total_ms\n0\t4\n"), &e);

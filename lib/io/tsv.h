@@ -1,0 +1,68 @@
+/* tsv.h: the tab-separated tables the tools write and read back (curvature.tsv, steps.tsv,
+ * derivatives.tsv, uncertainty.tsv, the --sens file, the benchmarks' step tables): a header line
+ * naming the columns, then a row a line, fields split at tabs. The whole file is read (at most
+ * KT_TSV_MAX_BYTES), so a line of any length is read whole; a line ending "\r\n" reads as one
+ * ending "\n", a last line without '\n' is read, empty lines are skipped, a UTF-8 byte-order
+ * mark before the header is skipped. Bad input is KT_EINPUT with one line naming the place,
+ * "file:line:col: expected ..." (col: the 1-based byte of the field in its line).
+ *
+ *     kt_tsv t;
+ *     if (kt_tsv_open(&t, path, e)) return e->code;
+ *     int c = kt_tsv_need(&t, "cyl_D", NULL);
+ *     double v;
+ *     while (c >= 0 && kt_tsv_next(&t) > 0 && kt_tsv_num(&t, c, 0, &v) == KT_OK) ...;
+ *     kt_tsv_close(&t);
+ *     return e->code;
+ */
+#ifndef KT_TSV_H
+#define KT_TSV_H
+
+#include "cursor.h"
+
+/* The largest table read, bytes (a bound on memory for an endless stream; the tools' tables
+ * are kilobytes to a few megabytes). */
+#define KT_TSV_MAX_BYTES ((size_t)64 << 20)
+
+/* What kt_tsv_num takes besides a finite number: "nan" (any case, as strtod), "inf". */
+enum { KT_TSV_NAN = 1, KT_TSV_INF = 2 };
+
+/* One table being read. Owner: kt_tsv_open / kt_tsv_close. */
+typedef struct kt_tsv {
+    kt_cursor c;          /* the file's bytes, split in place (tabs and line ends made NULs) */
+    int nhead, nf;        /* columns of the header; fields of the current row */
+    char **head, **f;     /* their texts, into c.b */
+    int line;             /* the current row's line (1: the header) */
+    const char *bol;      /* the start of the current row's line (columns in messages) */
+    int fcap;
+} kt_tsv;
+
+/* Read the file (path "-": stdin) and its header line. KT_OK, or KT_EINPUT: "file: cannot
+ * open: why", "file:1:1: expected a header line, found an empty file", a NUL byte, too large. */
+int kt_tsv_open(kt_tsv *t, const char *path, kt_err *e);
+void kt_tsv_close(kt_tsv *t);
+
+/* The index of the header's column `name`, -1 when absent. */
+int kt_tsv_find(const kt_tsv *t, const char *name);
+/* The same, when absent or given twice -1 and KT_EINPUT "file:1:1: expected a column NAME
+ * (what)" (what may be NULL) / "file:1:C: column NAME given twice". */
+int kt_tsv_need(kt_tsv *t, const char *name, const char *what);
+
+/* The next row: 1, 0 at the end of the file, -1 on a NUL byte (KT_EINPUT). */
+int kt_tsv_next(kt_tsv *t);
+
+/* The current row's field of column col (an index of the header): its text, or NULL and
+ * KT_EINPUT "file:L:C: expected a field in column NAME, found the end of the line". */
+const char *kt_tsv_text(kt_tsv *t, int col);
+/* The field as a number (strtod: the whole field, no blank before it, not out of range), finite
+ * unless flags (KT_TSV_*) take more. KT_OK, or KT_EINPUT "file:L:C: expected a number in column
+ * NAME, found 'x'"; *v unchanged then. */
+int kt_tsv_num(kt_tsv *t, int col, int flags, double *v);
+/* The field as a decimal integer in [lo, hi]; KT_OK or KT_EINPUT "file:L:C: expected an integer
+ * from lo to hi in column NAME, found 'x'". */
+int kt_tsv_int(kt_tsv *t, int col, long long lo, long long hi, long long *v);
+
+/* A caller's own error at the current row's field col (-1: the line's start): KT_EINPUT
+ * "file:L:C: msg". Returns KT_EINPUT. */
+int kt_tsv_fail(kt_tsv *t, int col, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+#endif
