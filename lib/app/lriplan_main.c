@@ -73,14 +73,21 @@ int kt_lri_main_count(const char *edits, int *n, kt_err *e)
     *n = 0;
     FILE *in = fopen(edits, "r");
     if (!in) return kt_fail(e, KT_ERUN, "%s: cannot open", edits);
-    char line[4096];
-    int last = 0; /* the tunnel's steps come first; they end at the first other step */
-    while (fgets(line, sizeof line, in)) {
+    char *line = NULL;
+    size_t cap = 0;
+    long got;
+    int last = 0, ln = 0; /* the tunnel's steps come first; they end at the first other step */
+    while ((got = kt_line_read(in, &line, &cap, (size_t)1 << 20, e)) >= 0) {
+        ln++;
         if (strncmp(line, "step ", 5) != 0) continue;
         if (!strstr(line, "(tunnel ")) break;
         last = atoi(line + 5);
     }
+    free(line);
     fclose(in);
+    if (got < -1) /* a line cut short would be misread: refused */
+        return got == -4 ? e->code : kt_fail(e, KT_EINPUT, "%s:%d:1: expected a line of text, found %s", edits, ln + 1,
+                                              got == -2 ? "a NUL byte" : "a line longer than 1 MiB");
     *n = last;
     return KT_OK;
 }
