@@ -19,9 +19,11 @@
 
 #include "cursor.h"
 
-/* The largest table read, bytes (a bound on memory for an endless stream; the tools' tables
- * are kilobytes to a few megabytes). */
-#define KT_TSV_MAX_BYTES ((size_t)64 << 20)
+/* The largest table read, bytes: a bound on memory (about twice this) for an endless stream,
+ * which is refused once past it. The tools' tables are kilobytes (curvature.tsv: about 600
+ * bytes a step; derivatives.tsv: about 150 bytes a step and quantity); a larger one is refused
+ * loudly, never cut. */
+#define KT_TSV_MAX_BYTES ((size_t)16 << 20)
 
 /* What kt_tsv_num takes besides a finite number: "nan" (any case, as strtod), "inf". */
 enum { KT_TSV_NAN = 1, KT_TSV_INF = 2 };
