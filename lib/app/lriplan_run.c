@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "augsolve_run.h"
 #include "curvature_run.h"
@@ -21,6 +22,16 @@ void kt_lriplan_opts_default(kt_lriplan_opts *o)
 {
     memset(o, 0, sizeof *o);
     o->step = 5;
+}
+
+/* The process's CPU seconds so far (user + system, every thread): the phases' cost on a shared
+ * machine, where their wall seconds are the load's (lri-plan(1), BENCHMARK). */
+static double cpu_now(void)
+{
+    struct rusage ru;
+    if (getrusage(RUSAGE_SELF, &ru) != 0) return NAN;
+    return (double)(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+           1e-6 * (double)(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
 }
 
 static int join(char *dst, const char *dir, const char *name, kt_err *e)
@@ -212,15 +223,17 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene
     snprintf(leaf, sizeof leaf, "mesh-%s.msh", name);
     if (join(cut, o->outdir, leaf, e)) return e->code;
     kt_cutplan_opts co = {plan, mesh, edits, a->main_steps ? cut : NULL, 1, 1};
+    double w0 = kt_now(), c0 = cpu_now();
     if (kt_cutplan_run(&co, e)) return e->code;
+    double w1 = kt_now(), c1 = cpu_now();
     if (a->main_steps) mesh = cut;
     kt_aug_run_opts ao;
     kt_aug_run_opts_default(&ao);
     ao.mesh = mesh, ao.edits = edits, ao.run_dir = run, ao.binary = 1, ao.aug.quiet = o->quiet;
     ao.uncertainty = !o->no_band; /* the band's derivatives (lriplan_band.c) */
-    double t0 = kt_now();
     if (kt_aug_run(&ao, e)) return e->code;
-    a->solve_seconds += kt_now() - t0;
+    double w2 = kt_now(), c2 = cpu_now();
+    a->solve_seconds += w2 - w1;
     kt_curv_opts cv;
     kt_curv_opts_default(&cv);
     cv.run_dir = run, cv.png = cv.vtk_out = cv.report = 0, cv.quiet = 1;
@@ -229,6 +242,9 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene
     int rc = kt_curv_run(&cv, sink, e);
     fclose(sink);
     if (rc) return rc;
+    kt_log(o->quiet, "lri-plan: %s arcs: cutplan %.1f s, augsolve %.1f s, curvature %.1f s (CPU "
+           "%.1f, %.1f, %.1f s)\n", name, w1 - w0, w2 - w1, kt_now() - w2, c1 - c0, c2 - c1,
+           cpu_now() - c2);
     int skip = 0;
     if (a->main_steps && kt_lri_main_count(edits, &skip, e)) return e->code;
     if (read_table(tsv, f, o->step, skip, e)) return e->code;
@@ -282,11 +298,12 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
         kt_log(o->quiet, "lri-plan: meshing %s\n", scene);
         kt_prep_opts po = {scene, mesh, 0, 0, 1, o->quiet};
         /* The summary is not read: the chosen ordering alone (mesh-prep --chosen-only; the same mesh). */
-        double t0 = kt_now();
+        double t0 = kt_now(), c0 = cpu_now();
         FILE *sink = fopen("/dev/null", "w");
         rc = sink ? kt_prep_run_table(&po, KT_PREP_TABLE_CHOSEN, sink, e) : kt_fail(e, KT_ERUN, "/dev/null: cannot open");
         if (sink) fclose(sink);
         a->mesh_seconds = kt_now() - t0;
+        kt_log(o->quiet || rc, "lri-plan: meshed in %.1f s (CPU %.1f s)\n", a->mesh_seconds, cpu_now() - c0);
     }
     if (rc == KT_OK) {
         /* The mesh's content hash (the one cutplan's edits header carries) and size. */
