@@ -31,8 +31,12 @@ typedef struct run {
     kt_mesh mesh;
     kt_scene scene;
     kt_fem_problem fem;
-    kt_physics phys;            /* per-tet physics; fem.mats.td points into it */
-    kt_fem_sens sens;           /* --uncertainty: the quantities and their derivative data */
+    kt_physics phys;            /* the run's own physics (none when borrowed) */
+    kt_fem_sens sens;           /* its own --uncertainty quantities and derivative data */
+    const kt_physics *ph;       /* the physics the run solves with: &phys or the caller's
+                                   (kt_aug_run_opts.physics); fem.mats.td points into it */
+    const kt_fem_sens *S;       /* likewise &sens or the caller's */
+    uint64_t mesh_hash;         /* kt_mesh_hash(&mesh) */
     kt_aug_problem prob;
     FILE *edits;
     kt_edits_reader rd;
@@ -163,7 +167,7 @@ static int open_edits(run *r, const char *path, const char *mesh, kt_err *e)
                        r->rd.h.ne, r->mesh.nn, r->mesh.ne);
     kt_err ignored = {0}; /* a plan that cannot be read gets no hash (curvature needs it anyway) */
     r->has_plan_hash = r->rd.h.plan[0] && kt_fnv1a_file(r->rd.h.plan, &r->plan_hash, &ignored) == KT_OK;
-    uint64_t mine = kt_mesh_hash(&r->mesh);
+    uint64_t mine = r->mesh_hash = kt_mesh_hash(&r->mesh);
     if (r->rd.h.has_hash && r->rd.h.hash != mine)
         return kt_fail(e, KT_EINPUT, "%s: the edits were made for another mesh: header hash "
                        "%016" PRIx64 ", mesh %s hashes to %016" PRIx64 " (same counts, other "
@@ -186,22 +190,99 @@ static int bind_problem(run *r, const char *scene, kt_err *e)
     return KT_OK;
 }
 
-/* The scene's physics on the bound problem (kt_physics_finish: the prestress of the measured
- * geometry under its loads); the plan's prescribed values follow the problem's. */
+/* The physics of scene sc on mesh m bound as fp (kt_physics_finish: the prestress of the
+ * measured geometry under its loads; with uncertainty the quantities' derivative data too). */
+static int physics_solve(const kt_scene *sc, const kt_mesh *m, kt_fem_problem *fp, int uncertainty,
+                         kt_physics *ph, kt_fem_sens *S, kt_err *e)
+{
+    if (!uncertainty) return kt_physics_finish(sc, m, fp, ph, e);
+    kt_fem_sens_plan(sc, fp, S);
+    return kt_physics_finish_sens(sc, m, fp, ph, S, e);
+}
+
+static void prestress_line(int quiet, const kt_physics *ph)
+{
+    kt_log(quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): apex "
+           "membrane stress %.4g kPa\n", ph->t_build, 1000 * ph->sig_apex);
+}
+
+int kt_aug_physics_solve(kt_aug_physics *p, const char *mesh, const char *scene, int uncertainty,
+                         int quiet, kt_err *e)
+{
+    memset(p, 0, sizeof *p);
+    double t0 = kt_now();
+    kt_mesh m;
+    memset(&m, 0, sizeof m);
+    kt_scene *sc = kt_calloc(1, sizeof *sc, e);
+    kt_fem_problem fp;
+    int bound = 0;
+    if (!sc || kt_msh_read(mesh, &m, e) || kt_fnv1a_file(scene, &p->scene_hash, e) ||
+        kt_scene_load(scene, sc, e) || kt_fem_bind(sc, &m, &fp, e))
+        goto done;
+    bound = 1;
+    if (physics_solve(sc, &m, &fp, uncertainty, &p->ph, &p->sens, e)) goto done;
+    p->uncertainty = uncertainty != 0;
+    p->mesh_hash = kt_mesh_hash(&m);
+    p->nn = m.nn, p->ne = m.ne;
+    p->solved = 1;
+    p->seconds = kt_now() - t0;
+    if (p->ph.prestressed) prestress_line(quiet, &p->ph);
+done:
+    if (bound) kt_fem_problem_free(&fp);
+    kt_mesh_free(&m);
+    free(sc);
+    if (e->code) memset(p, 0, sizeof *p); /* physics_solve freed its own on failure */
+    return e->code;
+}
+
+void kt_aug_physics_free(kt_aug_physics *p)
+{
+    kt_fem_sens_free(&p->sens);
+    kt_physics_free(&p->ph);
+    memset(p, 0, sizeof *p);
+}
+
+/* Why the caller's physics p is not this run's (NULL: it is: the same mesh and scene bytes,
+ * solved with the run's uncertainty). */
+static const char *not_ours(const run *r, const kt_aug_physics *p, int uncertainty)
+{
+    if (!p->solved) return "not solved";
+    if (p->uncertainty != (uncertainty != 0))
+        return uncertainty ? "solved without --uncertainty's derivatives"
+                           : "solved with --uncertainty's derivatives";
+    if (p->nn != r->mesh.nn || p->ne != r->mesh.ne || p->mesh_hash != r->mesh_hash)
+        return "solved on another mesh";
+    unsigned long long h = 0;
+    kt_err ignored = {0};
+    if (kt_fnv1a_file(r->scene_path, &h, &ignored) != KT_OK || h != p->scene_hash)
+        return "solved for another scene";
+    return NULL;
+}
+
+/* The scene's physics on the bound problem: the caller's when it lends the run this mesh's and
+ * scene's (kt_aug_run_opts.physics), else solved here (kt_physics_finish: the prestress of the
+ * measured geometry under its loads); the plan's prescribed values follow the problem's. */
 static int solve_physics(run *r, const kt_aug_run_opts *o, kt_err *e)
 {
-    if (o->uncertainty) {
-        kt_fem_sens_plan(&r->scene, &r->fem, &r->sens);
-        if (kt_physics_finish_sens(&r->scene, &r->mesh, &r->fem, &r->phys, &r->sens, e))
+    const char *why = o->physics ? not_ours(r, o->physics, o->uncertainty) : "";
+    if (!why) {
+        r->ph = &o->physics->ph, r->S = &o->physics->sens;
+        kt_physics_adopt(r->ph, &r->mesh, &r->fem);
+    } else {
+        if (o->physics)
+            kt_log(r->quiet, "augsolve: the caller's physics is not this run's (%s): solving "
+                   "its own\n", why);
+        if (physics_solve(&r->scene, &r->mesh, &r->fem, o->uncertainty, &r->phys, &r->sens, e))
             return e->code;
-    } else if (kt_physics_finish(&r->scene, &r->mesh, &r->fem, &r->phys, e)) {
-        return e->code;
+        r->ph = &r->phys, r->S = &r->sens;
     }
-    r->prob.perm = r->phys.perm; /* the prestress solve's order: the planned method's too */
-    if (r->phys.prestressed) {
+    r->prob.perm = r->ph->perm; /* the prestress solve's order: the planned method's too */
+    if (r->ph->prestressed) {
         kt_edits_plan_zero_values(&r->plan);
-        kt_log(r->quiet, "augsolve: prestress of the measured geometry under its loads (%.1f s): "
-               "apex membrane stress %.4g kPa\n", r->phys.t_build, 1000 * r->phys.sig_apex);
+        if (why) prestress_line(r->quiet, r->ph);
+        else
+            kt_log(r->quiet, "augsolve: prestress of the measured geometry: the caller's, solved "
+                   "once for this mesh and scene (%.1f s)\n", o->physics->ph.t_build);
     }
     return KT_OK;
 }
@@ -226,13 +307,13 @@ static int write_vtk(run *r, const kt_aug_run_opts *o, kt_err *e)
         {"origin", 1, 0, 1, origin},
         {"reaction", 3, 0, 0, (double *)react}};
     int nf = react ? 3 : 2;
-    for (int k = 0; o->uncertainty && k < r->sens.nd; k++, nf++) { /* du/dq, mm per unit of q */
+    for (int k = 0; o->uncertainty && k < r->S->nd; k++, nf++) { /* du/dq, mm per unit of q */
         memset(&f[nf], 0, sizeof f[nf]);
-        snprintf(f[nf].name, sizeof f[nf].name, "dudp_%s", kt_uq_name(r->sens.d[k].q));
+        snprintf(f[nf].name, sizeof f[nf].name, "dudp_%s", kt_uq_name(r->S->d[k].q));
         f[nf].ncomp = 3;
         f[nf].v = (double *)kt_solver_dudp(r->sv, k);
     }
-    for (int k = 0; kt_solver_at(r->sv) == 0 && k < r->phys.ncell; k++) f[nf++] = r->phys.cell[k];
+    for (int k = 0; kt_solver_at(r->sv) == 0 && k < r->ph->ncell; k++) f[nf++] = r->ph->cell[k];
     kt_vtk_write_tets(path, m, f, nf, o->binary, e);
     free(origin);
     return e->code;
@@ -342,10 +423,10 @@ static int write_uncertainty(run *r, const kt_aug_run_opts *o, kt_err *e)
     fputs("param\tunit\tvalue\tsd\tmethod\tsource\n", out.f);
     for (int q = 0; q < KT_UQ_N; q++) {
         fprintf(out.f, "%s\t%s\t", kt_uq_name(q), kt_uq_unit(q));
-        tsv_num(out.f, r->sens.value[q], "%.6g");
+        tsv_num(out.f, r->S->value[q], "%.6g");
         fputc('\t', out.f);
-        tsv_num(out.f, r->sens.sd[q], "%.6g");
-        fprintf(out.f, "\t%s\t%s\n", METHOD[r->sens.method[q]], kt_uq_source(q));
+        tsv_num(out.f, r->S->sd[q], "%.6g");
+        fprintf(out.f, "\t%s\t%s\n", METHOD[r->S->method[q]], kt_uq_source(q));
     }
     return kt_out_commit(&out, e);
 }
@@ -418,7 +499,7 @@ static int write_step(run *r, const kt_aug_run_opts *o, kt_err *e)
 /* Every step of the plan through the front door (solver.h); *steps counts those applied. */
 static int solve_steps(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
 {
-    kt_solver_opts so = {o->aug, o->plan_max_ratio, r->want, o->uncertainty ? &r->sens : NULL};
+    kt_solver_opts so = {o->aug, o->plan_max_ratio, r->want, o->uncertainty ? r->S : NULL};
     if (kt_solver_create(&r->sv, &r->prob, &r->plan, &r->final, &so, e)) return e->code;
     kt_mesh_free(&r->final);
     const char *why = kt_solver_fallback(r->sv);
@@ -435,7 +516,7 @@ static int solve_steps(run *r, const kt_aug_run_opts *o, int *steps, kt_err *e)
     }
     if (o->uncertainty)
         kt_log(o->aug.quiet, "augsolve: --uncertainty: %d derivative quantities, %.2f s in the "
-               "steps' derivatives\n", r->sens.nd, kt_solver_t_sens(r->sv));
+               "steps' derivatives\n", r->S->nd, kt_solver_t_sens(r->sv));
     return KT_OK;
 }
 

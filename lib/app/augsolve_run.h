@@ -2,7 +2,36 @@
 #ifndef KT_AUGSOLVE_RUN_H
 #define KT_AUGSOLVE_RUN_H
 
+#include <stdint.h>
+
 #include "aug.h"
+#include "physics.h"
+#include "sens.h"
+
+/* The physics of the measured geometry (kt_physics: the per-tet data, the prestress under the
+ * loads and the order its solve factored with; with uncertainty the quantities' derivative
+ * data, kt_fem_sens, the prestress's derivatives among them) solved once by a caller that runs
+ * several edits streams on one intact mesh and scene (lri-plan's families) and lent to each
+ * kt_aug_run (kt_aug_run_opts.physics). The caller owns it: kt_aug_physics_solve fills it,
+ * kt_aug_physics_free frees it; a run only reads it. */
+typedef struct kt_aug_physics {
+    int solved;
+    kt_physics ph;
+    kt_fem_sens sens;           /* uncertainty: the derivative data (else nothing) */
+    int uncertainty;            /* solved with the derivatives */
+    uint64_t mesh_hash;         /* kt_mesh_hash of the intact mesh it was solved on */
+    int nn, ne;                 /* its nodes and tets */
+    unsigned long long scene_hash; /* kt_fnv1a_file of the scene file's bytes */
+    double seconds;             /* the whole solve: mesh read, scene, prestress */
+} kt_aug_physics;
+
+/* p := the physics of scene file `scene` on mesh file `mesh` (uncertainty: with the
+ * derivative data augsolve --uncertainty needs), exactly as a kt_aug_run on that mesh and scene
+ * would solve it itself; the prestress line on stderr unless quiet. On failure p holds nothing
+ * to free. */
+int kt_aug_physics_solve(kt_aug_physics *p, const char *mesh, const char *scene, int uncertainty,
+                         int quiet, kt_err *e);
+void kt_aug_physics_free(kt_aug_physics *p);
 
 /* The augsolve tool: mesh + edits stream -> run folder (step-NNNN.vtk, steps.tsv, run.yaml). */
 typedef struct kt_aug_run_opts {
@@ -13,6 +42,11 @@ typedef struct kt_aug_run_opts {
     double plan_max_ratio;    /* planned: refactor with METIS beyond this factor-size ratio
                                  (kt_plan_factor_build; default KT_PLAN_MAX_RATIO, 0: never) */
     int uncertainty;          /* --uncertainty: dudp_<q> fields and uncertainty.tsv */
+    const kt_aug_physics *physics; /* NULL: the run solves its physics itself; else the
+                                 caller's, borrowed (not copied) when it was solved on the
+                                 run's mesh and scene (their content hashes) with the run's
+                                 uncertainty; otherwise the run solves its own and says why on
+                                 stderr. The results are byte for byte the same either way. */
     kt_aug_opts aug;
 } kt_aug_run_opts;
 

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "augsolve_run.h"
@@ -23,6 +24,16 @@ void kt_lriplan_opts_default(kt_lriplan_opts *o)
 {
     memset(o, 0, sizeof *o);
     o->step = 5;
+}
+
+/* The process's CPU seconds so far (user + system, every thread): the phases' cost on a shared
+ * machine, where their wall seconds are the load's (lri-plan(1), BENCHMARK). */
+static double cpu_now(void)
+{
+    struct rusage ru;
+    if (getrusage(RUSAGE_SELF, &ru) != 0) return NAN;
+    return (double)(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+           1e-6 * (double)(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
 }
 
 static int join(char *dst, const char *dir, const char *name, kt_err *e)
@@ -182,9 +193,12 @@ static int read_table(const char *path, kt_lri_family *f, double step, int skip,
 }
 
 /* kind 0: one arc on the steeper half; 1: an equal pair; 2: an unequal pair, the longer arc on
- * the steeper half. */
+ * the steeper half. pre (NULL: one family) is the physics the families share: solved here on
+ * the first family's intact mesh (the snapped one with a main incision: the tunnel snaps the
+ * same nodes in every family) and lent to every family's run, which borrows it when its mesh
+ * and scene are the same bytes (kt_aug_run_opts.physics) and solves its own otherwise. */
 static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene *s, int kind, const char *mesh,
-                      kt_err *e)
+                      const char *scene, kt_aug_physics *pre, kt_err *e)
 {
     static const char *const NAMES[] = {"single", "paired", "unequal"};
     const char *name = NAMES[kind];
@@ -210,15 +224,24 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene
     snprintf(leaf, sizeof leaf, "mesh-%s.msh", name);
     if (join(cut, o->outdir, leaf, e)) return e->code;
     kt_cutplan_opts co = {plan, mesh, edits, a->main_steps ? cut : NULL, 1, 1};
+    double w0 = kt_now(), c0 = cpu_now();
     if (kt_cutplan_run(&co, e)) return e->code;
+    double w1 = kt_now(), c1 = cpu_now();
     if (a->main_steps) mesh = cut;
+    int solved_here = pre && !pre->solved;
+    if (solved_here) {
+        if (kt_aug_physics_solve(pre, mesh, scene, !o->no_band, o->quiet, e)) return e->code;
+        a->solve_seconds += pre->seconds;
+    }
+    double w1p = kt_now(), c1p = cpu_now();
     kt_aug_run_opts ao;
     kt_aug_run_opts_default(&ao);
     ao.mesh = mesh, ao.edits = edits, ao.run_dir = run, ao.binary = 1, ao.aug.quiet = o->quiet;
     ao.uncertainty = !o->no_band; /* the band's derivatives (lriplan_band.c) */
-    double t0 = kt_now();
+    ao.physics = pre;
     if (kt_aug_run(&ao, e)) return e->code;
-    a->solve_seconds += kt_now() - t0;
+    double w2 = kt_now(), c2 = cpu_now();
+    a->solve_seconds += w2 - w1p;
     kt_curv_opts cv;
     kt_curv_opts_default(&cv);
     cv.run_dir = run, cv.png = cv.vtk_out = cv.report = 0, cv.quiet = 1;
@@ -227,6 +250,12 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene
     int rc = kt_curv_run(&cv, sink, e);
     fclose(sink);
     if (rc) return rc;
+    char shared[96] = "";
+    if (solved_here)
+        snprintf(shared, sizeof shared, "; before it the families' shared prestress %.1f s (CPU %.1f s)",
+                 w1p - w1, c1p - c1);
+    kt_log(o->quiet, "lri-plan: %s arcs: cutplan %.1f s, augsolve %.1f s, curvature %.1f s (CPU %.1f, %.1f, "
+           "%.1f s)%s\n", name, w1 - w0, w2 - w1p, kt_now() - w2, c1 - c0, c2 - c1p, cpu_now() - c2, shared);
     int skip = 0;
     if (a->main_steps && kt_lri_main_count(edits, &skip, e)) return e->code;
     if (read_table(tsv, f, o->step, skip, e)) return e->code;
@@ -280,11 +309,12 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
         kt_log(o->quiet, "lri-plan: meshing %s\n", scene);
         kt_prep_opts po = {scene, mesh, 0, 0, 1, o->quiet};
         /* The summary is not read: the chosen ordering alone (mesh-prep --chosen-only; the same mesh). */
-        double t0 = kt_now();
+        double t0 = kt_now(), c0 = cpu_now();
         FILE *sink = fopen("/dev/null", "w");
         rc = sink ? kt_prep_run_table(&po, KT_PREP_TABLE_CHOSEN, sink, e) : kt_fail(e, KT_ERUN, "/dev/null: cannot open");
         if (sink) fclose(sink);
         a->mesh_seconds = kt_now() - t0;
+        kt_log(o->quiet || rc, "lri-plan: meshed in %.1f s (CPU %.1f s)\n", a->mesh_seconds, cpu_now() - c0);
     }
     if (rc == KT_OK) {
         /* The mesh's content hash (the one cutplan's edits header carries) and size. */
@@ -293,9 +323,15 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
         if (rc == KT_OK) a->mesh_hash = kt_mesh_hash(&m), a->nodes = m.nn, kt_mesh_free(&m);
     }
     a->main_steps = kt_lri_main_steps(&a->p);
-    if (rc == KT_OK && a->p.arcs != KT_ARCS_PAIRED) rc = run_family(o, a, s, 0, mesh, e);
-    if (rc == KT_OK && a->p.arcs != KT_ARCS_SINGLE) rc = run_family(o, a, s, 1, mesh, e);
-    if (rc == KT_OK && a->p.arcs != KT_ARCS_SINGLE && a->ratio < KT_LRIPLAN_SYMMETRIC) rc = run_family(o, a, s, 2, mesh, e);
+    /* The families run on one intact mesh and scene: with more than one, their physics (the
+     * prestress, with the band its derivatives) is solved once and lent to every run. */
+    int fam[3] = {a->p.arcs != KT_ARCS_PAIRED, a->p.arcs != KT_ARCS_SINGLE,
+                  a->p.arcs != KT_ARCS_SINGLE && a->ratio < KT_LRIPLAN_SYMMETRIC};
+    kt_aug_physics *pre = NULL;
+    if (rc == KT_OK && fam[0] + fam[1] + fam[2] > 1 && !(pre = kt_calloc(1, sizeof *pre, e))) rc = e->code;
+    for (int k = 0; k < 3 && rc == KT_OK; k++)
+        if (fam[k]) rc = run_family(o, a, s, k, mesh, scene, pre, e);
+    if (pre) kt_aug_physics_free(pre), free(pre);
     const char *report = NULL;
     if (rc == KT_OK) {
         kt_lri_choose(a);

@@ -189,11 +189,17 @@ static int finish(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_ph
         kt_physics_free(ph);
         return e->code;
     }
+    kt_physics_adopt(ph, m, fp);
+    return KT_OK;
+}
+
+void kt_physics_adopt(const kt_physics *ph, const kt_mesh *m, kt_fem_problem *fp)
+{
+    fp->mats.td = (ph->td.C || ph->td.sig) ? &ph->td : NULL;
     if (ph->prestressed) {
         memset(fp->g, 0, 3 * (size_t)m->nn * sizeof(double));
         for (int k = 0; k < fp->nfix; k++) memset(fp->fix[k].v, 0, sizeof fp->fix[k].v);
     }
-    return KT_OK;
 }
 
 int kt_physics_finish(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,

@@ -64,4 +64,11 @@ int kt_physics_problem(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, 
 int kt_physics_finish(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_physics *ph,
                       kt_err *e);
 
+/* Problem fp (kt_fem_bind of the scene and mesh m that ph was built for) takes ph's per-tet
+ * data: fp->mats.td = &ph->td, and for a prestressed ph the prescribed values zeroed, as
+ * kt_physics_finish leaves them. What a caller does with a physics solved once and lent to
+ * several runs on the same intact mesh (augsolve_run.h, kt_aug_physics): ph is only read, and
+ * must outlive fp's use. */
+void kt_physics_adopt(const kt_physics *ph, const kt_mesh *m, kt_fem_problem *fp);
+
 #endif
