@@ -218,6 +218,7 @@ int kt_physics_finish_sens(const kt_scene *s, const kt_mesh *m, kt_fem_problem *
     }
     for (int k = 0; k < S->nd; k++) /* without prestress, iop moves only the loads */
         S->d[k].dK_zero = S->d[k].q == KT_UQ_IOP && !ph->prestressed;
+    S->zero_at_0 = ph->prestressed;
     return KT_OK;
 }
 

@@ -37,6 +37,12 @@ typedef struct kt_fem_sens {
     int nd;                     /* quantities with method derivative, in KT_UQ_* order: */
     kt_fem_dparam d[KT_UQ_N];
     int npress, ptag[KT_SCENE_MAX]; /* the problem's pressure surfaces (tags) */
+    int zero_at_0;              /* 1: the intact scene's field is zero for every value of every
+                                   quantity, so are its derivatives (a prestressed scene, whose
+                                   step 0 solves A(q) u = f_p(q) - K0(q) u0(q) = 0: the prestress
+                                   u0 solves K0 u0 = f_p with these very loads, and its stress
+                                   sig0 = C eps(u0) is integrated with the same rule; its
+                                   prescribed values are zeroed) */
 } kt_fem_sens;
 
 /* Which quantities scene s (bound as fp) has, their values and methods (no derivative data:

@@ -144,10 +144,13 @@ void kt_plan_back(const kt_plan_factor *F, const unsigned char *want, double *wo
                   double *y);
 /* The same with nrhs right-hand sides at once, Y interleaved (row q's values at
  * Y[q nrhs .. q nrhs + nrhs)): one pass over the factor for all of them (BLAS 3 per supernode);
- * work holds F->maxrow * nrhs values. kt_plan_back_multi takes a simplicial factor too (then
- * want is ignored: every column). */
+ * work holds F->maxrow * nrhs values. kt_plan_forward_multi updates only the rows below upto
+ * (F->nfree: every row, as kt_plan_forward; c1: a substitution that is not continued, whose
+ * rows >= c1 the caller zeroes, reads none of the factor's rows there: a supernodal factor
+ * with sorted row lists skips them, a simplicial one updates them all the same).
+ * kt_plan_back_multi takes a simplicial factor too (then want is ignored: every column). */
 void kt_plan_forward_multi(const kt_plan_factor *F, double *work, int c0, int c1, int nrhs,
-                           double *Y);
+                           int upto, double *Y);
 void kt_plan_back_multi(const kt_plan_factor *F, const unsigned char *want, double *work, int N,
                         int nrhs, double *Y);
 /* Set F->maxrow and F->rows_sorted (kt_plan_factor_build, after the factorization). */

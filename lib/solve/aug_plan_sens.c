@@ -298,7 +298,7 @@ int kt_plan_sens_solve(kt_plan_sens *D, kt_plan_state *s, const kt_edits_plan *p
         size_t v = (size_t)D->var[Perm[q]] * nd;
         for (int k = 0; k < nd; k++) D->z[(size_t)q * nd + k] = D->tf[v + k] - D->y[v + k];
     }
-    kt_plan_forward_multi(F, D->work, 0, N, nd, D->z);
+    kt_plan_forward_multi(F, D->work, 0, N, nd, N, D->z); /* rows >= N: not read, zeroed */
     memset(D->z + (size_t)N * nd, 0, (size_t)(F->nfree - N) * nd * sizeof(double));
     kt_plan_back_multi(F, D->want, D->work, N, nd, D->z);
     /* dv (constrained variables: their values do not depend on q), du = T dv */

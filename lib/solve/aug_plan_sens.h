@@ -7,7 +7,9 @@
  * with the plan's factor, every quantity in the same pass (kt_plan_forward_multi /
  * kt_plan_back_multi). The forward substitution of a
  * derivative starts from column 0 every step: its right-hand side holds dA v, and v changes
- * in every row from one step to the next, so there is no consumed prefix to continue. */
+ * in every row from one step to the next, so there is no consumed prefix to continue; and, not
+ * continued, it updates no row of an unreleased increment (kt_plan_forward_multi's upto = N),
+ * so it reads none of the factor's values there. */
 #ifndef KT_AUG_PLAN_SENS_H
 #define KT_AUG_PLAN_SENS_H
 

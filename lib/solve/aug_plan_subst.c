@@ -158,7 +158,7 @@ static void back_simplicial_multi(const cholmod_factor *L, int N, int nrhs, doub
 /* Row-major blocks of nrhs values are column-major nrhs x rows matrices: the supernode's
  * triangle and rectangle apply from the right (Y^T L^T = B^T forward, Y^T L = B^T back). */
 void kt_plan_forward_multi(const kt_plan_factor *F, double *work, int c0, int c1, int nrhs,
-                           double *Y)
+                           int upto, double *Y)
 {
     const cholmod_factor *L = F->L;
     if (!L->is_super) {
@@ -175,7 +175,10 @@ void kt_plan_forward_multi(const kt_plan_factor *F, double *work, int c0, int c1
         double *top = Y + (size_t)(k1 + a) * nrhs;
         cblas_dtrsm(CblasColMajor, CblasRight, CblasLower, CblasTrans, CblasNonUnit, nrhs, b - a,
                     1.0, X + a, nsrow, top, nrhs);
-        int nb = nsrow - b;
+        /* rows below: s's own columns from b on, then its row list (sorted: those < upto a
+         * prefix of it; else all of them) */
+        int nb = k1 + nscol <= upto ? nscol - b + rows_below(F, s, upto)
+                                    : (upto - k1 - b > 0 ? upto - k1 - b : 0);
         if (nb == 0) continue;
         cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, nrhs, nb, b - a, 1.0, top, nrhs,
                     X + b, nsrow, 0.0, work, nrhs);

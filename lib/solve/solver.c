@@ -81,8 +81,20 @@ static int verify(kt_solver *sv, kt_err *e)
     return KT_OK;
 }
 
-/* The step's derivatives: the backend's, or from scratch on its cut mesh and field; NaN off
- * the output set. */
+/* Whether the intact scene's field is zero for every value of the quantities (sens.h,
+ * zero_at_0: a prestressed scene) with the plan's prescribed values, all zero at step 0 (the
+ * intact mesh, no edits yet): then so is every derivative of step 0, exactly, and none is
+ * solved for. */
+static int zero_at_0(const kt_solver *sv)
+{
+    if (sv->step != 0 || !sv->sens->zero_at_0) return 0;
+    for (int i = 0; i < 3 * sv->plan->nn0; i++)
+        if (sv->plan->fixed[i] && sv->plan->g[i] != 0) return 0;
+    return 1;
+}
+
+/* The step's derivatives: the backend's, or from scratch on its cut mesh and field (zero at
+ * step 0 of a prestressed scene, unsolved); NaN off the output set. */
 static int derivatives(kt_solver *sv, kt_err *e)
 {
     double t0 = kt_now();
@@ -95,9 +107,11 @@ static int derivatives(kt_solver *sv, kt_err *e)
         sv->ducap = need;
     }
     if (nd == 0) return KT_OK;
-    if (sv->be->dudp ? sv->be->dudp(sv->st, sv->du, e)
-                     : kt_fem_sens_fresh(sv->sens, sv->v.mesh, sv->prob->mats, sv->plan->fixed,
-                                         sv->v.u, sv->du, e))
+    if (zero_at_0(sv))
+        memset(sv->du, 0, n * (size_t)nd * sizeof(double));
+    else if (sv->be->dudp ? sv->be->dudp(sv->st, sv->du, e)
+                          : kt_fem_sens_fresh(sv->sens, sv->v.mesh, sv->prob->mats,
+                                              sv->plan->fixed, sv->v.u, sv->du, e))
         return e->code;
     for (int k = 0; k < nd; k++)
         for (size_t i = 0; i < n; i++)
