@@ -51,21 +51,12 @@ python3 - "$tmp" <<'PY' || exit 1
 import sys
 tmp = sys.argv[1]
 
+sys.path.insert(0, "tests/lib")
+from vtkvec import point_vectors
+
 def read_vtk(path):
-    """POINT_DATA vectors of an ASCII legacy VTK: name -> flat list of floats."""
-    txt = open(path).read().split("\n")
-    out, npts, i = {}, 0, 0
-    while i < len(txt):
-        l = txt[i]
-        if l.startswith("POINT_DATA"):
-            npts = int(l.split()[1])
-        elif l.startswith("CELL_DATA"):
-            npts = 0
-        elif l.startswith("VECTORS") and npts:
-            out[l.split()[1]] = [float(x) for x in " ".join(txt[i + 1:i + 1 + npts]).split()]
-            i += npts
-        i += 1
-    return out
+    """name -> flat list of floats"""
+    return {k: [c for t in v for c in t] for k, v in point_vectors(path).items()}
 
 def fail(msg):
     print("augsolve_band_step0: FAILED:", msg)

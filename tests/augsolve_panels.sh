@@ -30,14 +30,12 @@ done
 /usr/bin/python3 - "$tmp" <<'PY' || exit 1
 import glob, os, sys
 tmp = sys.argv[1]
+sys.path.insert(0, "tests/lib")
+from vtkvec import flat
 def field(path):
-    txt = open(path).read().split("\n")
-    for i, l in enumerate(txt):
-        if l.startswith("POINT_DATA"):
-            npts = int(l.split()[1])
-        if l.startswith("VECTORS displacement"):
-            return [float(x) for x in " ".join(txt[i + 1 : i + 1 + npts]).split()]
-    raise SystemExit(f"FAILED: no displacement in {path}")
+    u = flat(path)
+    if not u: raise SystemExit(f"FAILED: no displacement in {path}")
+    return u
 steps = sorted(os.path.basename(p) for p in glob.glob(f"{tmp}/run-0/step-*.vtk"))
 if len(steps) != 4: raise SystemExit(f"FAILED: {len(steps)} step VTKs (expected 4)")
 worst = 0

@@ -27,14 +27,9 @@ python3 - "$tmp" <<'PY' || exit 1
 import sys
 tmp = sys.argv[1]
 # step 0: the displacement field of the legacy ASCII VTK is zero
-txt = open(f"{tmp}/run/step-0000.vtk").read().split("\n")
-vals = []
-for i, l in enumerate(txt):
-    if l.startswith("POINT_DATA"):
-        npts = int(l.split()[1])
-    if l.startswith("VECTORS displacement"):
-        vals = [float(x) for x in " ".join(txt[i + 1 : i + 1 + npts]).split()]
-        break
+sys.path.insert(0, "tests/lib")
+from vtkvec import flat
+vals = flat(f"{tmp}/run/step-0000.vtk")
 u0 = max(abs(v) for v in vals) if vals else float("nan")
 rows = [l.rstrip("\n").split("\t") for l in open(f"{tmp}/run/curvature.tsv")]
 c = {k: i for i, k in enumerate(rows[0])}

@@ -82,22 +82,8 @@ python3 - "$tmp" <<'PY' || exit 1
 import math, sys
 tmp = sys.argv[1]
 
-def read_vtk(path):
-    """POINT_DATA vectors of an ASCII legacy VTK: name -> list of 3-tuples."""
-    txt = open(path).read().split("\n")
-    out, npts, i = {}, 0, 0
-    while i < len(txt):
-        l = txt[i]
-        if l.startswith("POINT_DATA"):
-            npts = int(l.split()[1])
-        elif l.startswith("CELL_DATA"):
-            npts = 0
-        elif l.startswith("VECTORS") and npts:
-            v = [float(x) for x in " ".join(txt[i + 1:i + 1 + npts]).split()]
-            out[l.split()[1]] = [tuple(v[3 * k:3 * k + 3]) for k in range(npts)]
-            i += npts
-        i += 1
-    return out
+sys.path.insert(0, "tests/lib")
+from vtkvec import point_vectors as read_vtk
 
 def fail(msg):
     print("augsolve_uncertainty: FAILED:", msg)

@@ -31,14 +31,8 @@ last=$(ls "$tmp"/run/step-*.vtk | tail -n 1)
 python3 - "$tmp" "$last" <<'PY' || exit 1
 import math, sys
 tmp, last = sys.argv[1], sys.argv[2]
-def vtk_u(path):
-    txt = open(path).read().split("\n")
-    for i, l in enumerate(txt):
-        if l.startswith("POINT_DATA"):
-            n = int(l.split()[1])
-        if l.startswith("VECTORS displacement"):
-            return [float(x) for x in " ".join(txt[i + 1 : i + 1 + n]).split()]
-    return []
+sys.path.insert(0, "tests/lib")
+from vtkvec import flat as vtk_u
 def txt_u(path):
     return [float(x) for x in open(path).read().split()]
 errs = []
