@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # lri-convergence.sh BUILD SCENE OUT LABEL [PLAN]: one row of the wound-convergence table
-# (keratome-scene(5), THE EYE MODEL; README, physics). Meshes SCENE (mesh-prep), runs PLAN
+# (docs/physics.md, "Convergence at the wound"). Meshes SCENE (mesh-prep), runs PLAN
 # (default plans/lri-paired-60.yaml, with its scene: replaced by SCENE) as the demo does -
 # cutplan | augsolve with the planned method (one factorization of the final cut mesh, every
 # step by substitution) - reads it with curvature, and appends one TSV row to OUT/table.tsv:

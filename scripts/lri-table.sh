@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# lri-table.sh BUILD SCENE OUT [PLAN...]: the arc table of the physics (README, keratome-scene(5)).
+# lri-table.sh BUILD SCENE OUT [PLAN...]: the arc table of the physics (docs/physics.md).
 # Meshes SCENE once (mesh-prep), then solves each plan (default: plans/lri-{single,paired}-
 # {30,45,60,75,90}.yaml) in ONE step (the whole arc opened at once: the model is linear, so the
 # final state does not depend on the steps) with augsolve's default method (planned; for a
