@@ -3,7 +3,8 @@
  *  - material: uniaxial stress along a1 strains it by sigma/E1 (E1 + Ec with the limbal
  *    circumferential term), transverse shear a1-n by tau/Gt, in-plane shear by tau/mu, in
  *    rotated frames; the orthotropic moduli keratome-scene(5) states (the stiffer direction's
- *    exactly, the softer one's closed form, the limbal fibres along an oblique c);
+ *    exactly, the softer one's closed form, the limbal fibres along an oblique c) and that an
+ *    isotropic tet's constants give its isotropic matrix (keratome-vtk(5));
  *  - element: the six rigid modes are in the kernel of the fibre element (P1, P2 curved); a
  *    linear displacement field on an irregular box is reproduced (patch test: the interior
  *    rows of K u vanish) and its energy is V eps:C:eps;
@@ -160,6 +161,14 @@ static void test_orthotropy(void)
         CHECK_NEAR(uniaxial(C, c), E + Ec, 1e-12, "uniaxial along c: E_inplane + E_circumferential");
         CHECK_NEAR(uniaxial(C, b), E * (E + Ec) / (E + Ec - NU * NU * Ec), 1e-12,
                    "uniaxial normal to c in the plane: E (E + Ec) / (E + Ec - nu^2 Ec)");
+        /* keratome-vtk(5): an isotropic tet's constants E, E, E / (2 (1 + nu)), nu, 0 give
+         * exactly its isotropic matrix, in any frame */
+        double Ci[36], Cf[36], err = 0, big = 0;
+        kt_fibre_material iso = {3.0, 3.0, 3.0 / (2 * (1 + NU)), NU};
+        kt_fem_iso_matrix(3.0, NU, Ci);
+        kt_fem_fibre_matrix(&iso, Q[0], Q[1], Q[2], c, 0, Cf);
+        for (int k = 0; k < 36; k++) err = fmax(err, fabs(Cf[k] - Ci[k])), big = fmax(big, fabs(Ci[k]));
+        CHECK(err <= 1e-13 * big, "isotropic constants: the fibre matrix is the isotropic one (%.3g of %.3g)", err, big);
     }
 }
 
