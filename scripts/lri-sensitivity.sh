@@ -1,11 +1,19 @@
 #!/usr/bin/env bash
-# lri-sensitivity.sh BUILD OUT [VARIANT...]: the paired 60-degree LRI (plans/lri-paired-60.yaml)
-# on variants of plans/eye.yaml, one uncertain parameter moved to an end of its literature range
-# at a time (keratome-scene(5), THE EYE MODEL). Each variant is a sed edit of the scene; the
-# table (scripts/lri-table.sh rows) goes to OUT/sensitivity.tsv with the variant's name first.
+# lri-sensitivity.sh [--scene BASE] BUILD OUT [VARIANT...]: the paired 60-degree LRI
+# (plans/lri-paired-60.yaml) on variants of the eye scene BASE (default plans/eye.yaml), one
+# uncertain parameter moved to an end of its literature range at a time (keratome-scene(5), THE
+# EYE MODEL). Each variant is a sed edit of the scene (V below) and, for the blade-depth
+# variants, of the plan (P below); the table (scripts/lri-table.sh rows) goes to
+# OUT/sensitivity.tsv with the variant's name first.
 # The variants incision_0.14mm, incision_0.10mm, incision_0.07mm (named explicitly) refine the
-# mesh at the incision ring: the convergence series.
+# mesh at the incision ring: the convergence series. The variants depth_500um, depth_550um,
+# depth_600um (named explicitly) set the blade depth in micrometres, ring and cut alike, instead
+# of the default 90% of the local thickness (587 um at the default eye's 10.5 mm zone, whose
+# pachymetry is 652 um): the depth series (docs/physics.md). --scene runs the same variants on
+# another base, e.g. a scene with a healed wound (every sed must still change it).
 set -euo pipefail
+BASE=plans/eye.yaml
+if [ "${1:-}" = --scene ]; then BASE=$2; shift 2; fi
 B=$1 OUT=$2
 shift 2
 declare -A V=(
@@ -40,6 +48,16 @@ declare -A V=(
   [incision_0.14mm]='s/^    incision: 0.2 mm /    incision: 0.14 mm /'
   [incision_0.10mm]='s/^    incision: 0.2 mm /    incision: 0.10 mm /'
   [incision_0.07mm]='s/^    incision: 0.2 mm /    incision: 0.07 mm /'
+  # the depth series (not in the default list): the ring at a blade depth in micrometres
+  [depth_500um]='s/^      depth_fraction: 0.9 /      depth: 500 um /'
+  [depth_550um]='s/^      depth_fraction: 0.9 /      depth: 550 um /'
+  [depth_600um]='s/^      depth_fraction: 0.9 /      depth: 600 um /'
+)
+# plan edits of the depth series: the cut as deep as its ring
+declare -A P=(
+  [depth_500um]='s/^    depth_fraction: 0.9 /    depth: 500 um /'
+  [depth_550um]='s/^    depth_fraction: 0.9 /    depth: 550 um /'
+  [depth_600um]='s/^    depth_fraction: 0.9 /    depth: 600 um /'
 )
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=(defaults E_inplane_1.3MPa E_inplane_4.0MPa G_transverse_2.7kPa
@@ -49,11 +67,21 @@ names=("$@")
 mkdir -p "$OUT"
 [ -f "$OUT/sensitivity.tsv" ] || printf 'variant\tplan\tarc\tpaired\tflattening_D\tsteepening_D\tcoupling_ratio\tdk_mean_D\tsia_D\tnodes\tseconds\n' > "$OUT/sensitivity.tsv"
 for n in "${names[@]}"; do
+    [ -n "${V[$n]+set}" ] || { echo "lri-sensitivity: no variant $n" >&2; exit 1; }
     mkdir -p "$OUT/$n"
-    sed -e "${V[$n]:-}" plans/eye.yaml > "$OUT/$n/eye.yaml"
-    if [ -n "${V[$n]}" ] && cmp -s plans/eye.yaml "$OUT/$n/eye.yaml"; then
-        echo "lri-sensitivity: variant $n changed nothing" >&2; exit 1
+    sed -e "${V[$n]:-}" "$BASE" > "$OUT/$n/eye.yaml"
+    if [ -n "${V[$n]}" ] && cmp -s "$BASE" "$OUT/$n/eye.yaml"; then
+        echo "lri-sensitivity: variant $n changed nothing in $BASE" >&2; exit 1
     fi
-    bash scripts/lri-table.sh "$B" "$OUT/$n/eye.yaml" "$OUT/$n" plans/lri-paired-60.yaml |
+    plan=plans/lri-paired-60.yaml
+    if [ -n "${P[$n]:-}" ]; then
+        mkdir -p "$OUT/$n/plan"
+        plan=$OUT/$n/plan/lri-paired-60.yaml  # not in $OUT/$n, where lri-table writes its copy
+        sed -e "${P[$n]}" plans/lri-paired-60.yaml > "$plan"
+        if cmp -s plans/lri-paired-60.yaml "$plan"; then
+            echo "lri-sensitivity: variant $n changed nothing in plans/lri-paired-60.yaml" >&2; exit 1
+        fi
+    fi
+    bash scripts/lri-table.sh "$B" "$OUT/$n/eye.yaml" "$OUT/$n" "$plan" |
         sed "s/^/$n\t/" | tee -a "$OUT/sensitivity.tsv"
 done

@@ -5,8 +5,10 @@
 # LRI in one step, written ASCII and BINARY. meshio and VTK 9 (python3-vtk9) read the files;
 # for tets of every region the test recomputes, from the tet's vertices and the scene's
 # documented rules (keratome-scene(5), eye.fibres and MATERIALS), the lamellar frame a1 a2 n c,
-# the limbal weight and the material constants, and checks that sigma0 is the membrane stress
-# of the pressurized cornea (p R / 2t at the apex, traction-free normal stress), and that the
+# the limbal weight and the material constants (orthotropic lamellae: E_inplane_2 differs, so
+# the circumferential modulus's formula is tested), checks that sigma0 is the membrane stress
+# of the pressurized cornea (p R / 2t at the apex, traction-free normal stress) and that the
+# apex membrane stress augsolve prints is the mean keratome-scene(5) states, and that the
 # cut's step carries the same regions as step 0 and none of the per-tet inputs (tets keep their
 # numbers: step-0000.vtk holds them for every step, keratome-vtk(5)).
 set -u
@@ -18,20 +20,31 @@ tmp=$(mktemp -d /tmp/kt-physvtk.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 printf 'leak:libgmsh.so\n' > "$tmp/lsan.supp"
 export LSAN_OPTIONS="suppressions=$tmp/lsan.supp:print_suppressions=0"
-bash tests/lib/coarse-eye.sh 0.7 0.5 0.9 3 "$tmp/eye.yaml" || { echo "FAILED: could not coarsen the eye"; exit 1; }
+bash tests/lib/coarse-eye.sh 0.7 0.5 0.9 3 "$tmp/coarse.yaml" || { echo "FAILED: could not coarsen the eye"; exit 1; }
+# orthotropic lamellae (E_inplane_2 differs from E_inplane in cornea and limbus), so that the
+# circumferential modulus (limbal_density - 1) w (E_inplane + E_inplane_2) / 2 is told apart
+# from (limbal_density - 1) w E_inplane
+sed -e 's/^    E_inplane: 2.0 MPa /    E_inplane_2: 2.6 MPa\n&/' \
+    -e 's/^  limbus: {model: fibre, E_inplane: 2.0 MPa,/  limbus: {model: fibre, E_inplane: 2.0 MPa, E_inplane_2: 3.0 MPa,/' \
+    "$tmp/coarse.yaml" > "$tmp/eye.yaml"
+[ "$(grep -c 'E_inplane_2: ' "$tmp/eye.yaml")" = 2 ] || { echo "FAILED: plans/eye.yaml's cornea and limbus entries changed; E_inplane_2 not set"; exit 1; }
 sed -e "s|^scene:.*|scene: $tmp/eye.yaml|" -e 's|degrees_per_step:.*|degrees_per_step: 30 deg|' \
     plans/lri-single-30.yaml > "$tmp/plan.yaml"
 "$build/mesh-prep" -q "$tmp/eye.yaml" -o "$tmp/eye.msh" > /dev/null || { echo "FAILED: mesh-prep"; exit 1; }
 "$build/cutplan" -q "$tmp/plan.yaml" "$tmp/eye.msh" -o "$tmp/lri.edits" || { echo "FAILED: cutplan"; exit 1; }
-"$build/augsolve" -q "$tmp/eye.msh" "$tmp/lri.edits" -o "$tmp/ascii" 2> "$tmp/err" || { echo "FAILED: augsolve: $(cat "$tmp/err")"; exit 1; }
+"$build/augsolve" "$tmp/eye.msh" "$tmp/lri.edits" -o "$tmp/ascii" 2> "$tmp/err" || { echo "FAILED: augsolve: $(cat "$tmp/err")"; exit 1; }
+# the apex membrane stress augsolve prints (kPa, 4 significant digits)
+apex=$(sed -n 's/.*apex membrane stress \([-0-9.e+]*\) kPa.*/\1/p' "$tmp/err")
+[ -n "$apex" ] || { echo "FAILED: augsolve printed no apex membrane stress: $(cat "$tmp/err")"; exit 1; }
 "$build/augsolve" -q "$tmp/eye.msh" "$tmp/lri.edits" -o "$tmp/bin" --binary 2> "$tmp/err" || { echo "FAILED: augsolve --binary: $(cat "$tmp/err")"; exit 1; }
-$PY - "$tmp" <<'PY' || exit 1
+$PY - "$tmp" "$apex" <<'PY' || exit 1
 import math, re, sys
 import meshio, numpy as np, yaml
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 tmp = sys.argv[1]
+apex_printed = float(sys.argv[2])  # kPa
 errs = []
 def check(ok, what):
     if not ok: errs.append(what)
@@ -73,13 +86,17 @@ def expected(pc, region):
         s = min(max((rho - (rc - band)) / band, 0.0), 1.0)
         w = s * s * (3 - 2 * s)
     c = unit(np.array([-pc[1] / rho, pc[0] / rho, 0]) - (-pc[1] * n[0] + pc[0] * n[1]) / rho * n)
-    phi = math.atan2(pc[1], pc[0])
-    th = w * (phi - math.pi / 2 * cround(phi / (math.pi / 2)))
+    # the turn: w times the tangent-plane angle from a1 to the radial direction c x n, reduced
+    # to [-45, 45] deg, about n from a1 towards a2
+    r = np.cross(c, n)
+    psi = math.atan2(r @ a2, r @ a1)
+    th = w * (psi - math.pi / 2 * cround(psi / (math.pi / 2)))
     b1 = math.cos(th) * a1 + math.sin(th) * a2
     m = mats[region]
     if region in ("cornea", "limbus"):
-        E = q(m["E_inplane"])
-        cst = [E, E, q(m["G_transverse"]), float(m["nu"]), (dens - 1) * w * E, 1]
+        E1 = q(m["E_inplane"])
+        E2 = q(m["E_inplane_2"]) if "E_inplane_2" in m else E1
+        cst = [E1, E2, q(m["G_transverse"]), float(m["nu"]), (dens - 1) * w * (E1 + E2) / 2, 1]
     else:
         E, nu = q(m["E"]), float(m["nu"])
         cst = [E, E, E / (2 * (1 + nu)), nu, 0.0, 0]
@@ -169,6 +186,17 @@ print(f"{ne} tets; {len(picks)} recomputed: frames to {fmax:.2e}, constants to {
 check(abs(mem / laplace - 1) < 0.15, f"apex in-plane prestress {mem:.4g} MPa, p R / 2t = {laplace:.4g}")
 check(-p_iop < snn < 0, f"apex normal prestress {snn:.4g} MPa, expected between -p and 0")
 check(np.all(np.isfinite(S)), "sigma0 not finite")
+# 4. the printed apex membrane stress is what keratome-scene(5) (LOADS) says it is: over the
+# tets whose centroid lies within 0.5 mm of the axis and 1 mm below the highest node, the
+# volume-weighted (4-vertex volume) mean of (sigma_11 + sigma_22 + sigma_33) / 2 of sigma0
+X = x[tets[:, :4]]
+vol = np.abs(np.einsum("ij,ij->i", X[:, 1] - X[:, 0], np.cross(X[:, 2] - X[:, 0], X[:, 3] - X[:, 0]))) / 6
+win = (rho <= 0.5) & (pc[:, 2] >= x[:, 2].max() - 1.0)
+apex_mean = 1e3 * np.sum(vol[win] * 0.5 * S[win, :3].sum(axis=1)) / np.sum(vol[win])
+digit = 10 ** (math.floor(math.log10(abs(apex_mean))) - 3)  # the last of the 4 printed digits
+print(f"apex membrane stress: printed {apex_printed} kPa, recomputed from sigma0 {apex_mean:.4f} kPa ({win.sum()} tets)")
+check(win.sum() >= 4 and abs(apex_printed - apex_mean) <= 0.51 * digit,
+      f"printed apex membrane stress {apex_printed} kPa, the stated mean {apex_mean:.4f} kPa")
 if errs: print("FAILED: " + "; ".join(errs)); sys.exit(1)
 print("physics_vtk: ok")
 PY

@@ -50,11 +50,11 @@ typedef struct kt_materials {
  * incompressible transverse isotropy, NITI), plus fibre terms E_f a (x) a (x) a (x) a: with
  * Em = min(E1, E2), mu = Em / (2 (1 + nu)), lambda = 2 mu nu / (1 - 2 nu), a fibre term
  * E1 - Em along a1 or E2 - Em along a2, and Ec along the unit in-plane vector c (the limbal
- * circumferential fibres). Uniaxial stress along the stiffer of a1, a2 (or along c) then has
- * modulus E1 or E2 (+ Ec) exactly; along the softer one it is somewhat stiffer than its E, as
- * the other fibres restrain the lateral contraction (exact when E1 = E2, Ec = 0: transverse
- * isotropy). Shear on the planes containing n has modulus Gt, in-plane shear mu. a1, a2, n
- * orthonormal. */
+ * circumferential fibres). With Ec = 0, uniaxial stress along the stiffer of a1, a2 has modulus
+ * E_t = max(E1, E2) exactly, along the softer E_s E_t / (E_t - nu^2 (E_t - E_s)) (the stiffer
+ * fibres restrain its lateral contraction; E_s only when E1 = E2); with E1 = E2 = E, along an
+ * in-plane c it has E + Ec exactly (keratome-scene(5), MATERIALS; tests/fem/test_fem_tangent.c).
+ * Shear on the planes containing n has modulus Gt, in-plane shear mu. a1, a2, n orthonormal. */
 void kt_fem_fibre_matrix(const kt_fibre_material *mat, const double a1[3], const double a2[3],
                          const double n[3], const double c[3], double Ec, double C[36]);
 

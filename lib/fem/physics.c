@@ -101,21 +101,32 @@ static int fibre_matrices(const kt_scene *s, const kt_mesh *m, const kt_material
     return KT_OK;
 }
 
-/* Mean of (sig_11 + sig_22 + sig_33) / 2 over the tets within 0.5 mm of the axis near the top:
- * about the membrane stress p R / 2t of the apex (a check printed by augsolve). */
-static double apex_stress(const kt_mesh *m, const double *sig)
+/* The apex membrane stress printed by augsolve (keratome-scene(5), LOADS): over the tets whose
+ * centroid (the mean of their 4 vertices) lies within 0.5 mm of the axis and 1 mm below the
+ * mesh's highest node, the volume-weighted mean of (sig_11 + sig_22 + sig_33) / 2, each tet's
+ * stress its volume average over its quadrature points (kt_fem_prestress_mean: the sigma0 cell
+ * field of keratome-vtk(5)) and its weight the volume of its 4 vertices: about p R / 2t less
+ * p / 4. NAN when no tet is there. */
+static double apex_stress(const kt_mesh *m, const kt_physics *ph, kt_err *e)
 {
-    int nv = kt_tet_nv(m->order), n = 0;
-    double ztop = -1e300, sum = 0;
+    int nv = kt_tet_nv(m->order);
+    double ztop = -1e300, sum = 0, vol = 0;
+    kt_materials mats = {0, NULL, &ph->td};
     for (int i = 0; i < m->nn; i++) ztop = fmax(ztop, m->xyz[3 * i + 2]);
-    for (int t = 0; t < m->ne; t++) {
-        const double *x = m->xyz + 3 * (size_t)m->tet[(size_t)t * nv];
-        if (hypot(x[0], x[1]) > 0.5 || x[2] < ztop - 1.0) continue;
-        const double *s = sig + (size_t)t * KT_FEM_NQ * 6;
-        sum += 0.5 * (s[0] + s[1] + s[2]);
-        n++;
+    for (int t = 0; t < m->ne && !e->code; t++) {
+        const double *x[4];
+        double c[3] = {0, 0, 0}, s[6];
+        for (int a = 0; a < 4; a++) {
+            x[a] = m->xyz + 3 * (size_t)m->tet[(size_t)t * nv + a];
+            for (int k = 0; k < 3; k++) c[k] += 0.25 * x[a][k];
+        }
+        if (hypot(c[0], c[1]) > 0.5 || c[2] < ztop - 1.0) continue;
+        if (kt_fem_prestress_mean(m, &mats, t, s, e)) break;
+        double v = fabs(kt_tet_volume(x[0], x[1], x[2], x[3]));
+        sum += v * 0.5 * (s[0] + s[1] + s[2]);
+        vol += v;
     }
-    return n ? sum / n : NAN;
+    return vol > 0 ? sum / vol : NAN;
 }
 
 static int prestress(const kt_mesh *m, const kt_fem_problem *fp, kt_physics *ph,
@@ -143,7 +154,7 @@ static int prestress(const kt_mesh *m, const kt_fem_problem *fp, kt_physics *ph,
                     : kt_fem_solve_order(m, &mm, fp->fixed, fp->g, f, u, &ph->perm, c, e)) == KT_OK &&
         kt_fem_stress(m, &mm, u, ph->td.sig, e) == KT_OK) {
         ph->prestressed = 1;
-        ph->sig_apex = apex_stress(m, ph->td.sig);
+        ph->sig_apex = apex_stress(m, ph, e);
     }
     c->nmethods = nm;
     c->method[0].ordering = ord;

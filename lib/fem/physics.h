@@ -19,7 +19,9 @@ typedef struct kt_physics {
     int fibre;          /* some region is model fibre */
     int prestressed;    /* sig and pface are set */
     double t_build;     /* seconds (prestress solve included) */
-    double sig_apex;    /* mean in-plane prestress at the apex tets, MPa (report) */
+    double sig_apex;    /* the apex membrane stress augsolve prints, MPa: the volume mean of
+                           (sig_11 + sig_22 + sig_33) / 2 over the tets whose centroid is within
+                           0.5 mm of the axis and 1 mm of the apex (keratome-scene(5), LOADS) */
     double *frame;      /* owned, fibre scenes: ne x 13, kt_eye_fibre_frames (a1 a2 n c w) */
     double *cst;        /* owned: ne x KT_PHYSICS_NCST, the tet's constants E_inplane,
                            E_inplane_2, G_transverse (MPa), nu, E_circumferential (MPa), and

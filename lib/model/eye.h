@@ -44,9 +44,10 @@ int kt_eye_estimate_tets(const kt_eye *eye, int order, double *tets, kt_err *e);
 
 /* Lamellar frames of the eye's tets (eye.fibres; keratome-scene(5)), at each tet's centroid:
  * F[13 t + 0..2] a1 and [3..5] a2, the in-plane fibre directions (nasal-temporal and
- * superior-inferior centrally, turned by w times their angle to the radial/circumferential pair),
- * [6..8] n, the normal (from the anterior sphere's centre in the cornea, the globe's centre
- * elsewhere), [9..11] c, the in-plane circumferential direction, [12] w, the limbal weight:
+ * superior-inferior centrally, turned about n from a1 towards a2 by w times the tangent-plane
+ * angle from a1 to the radial direction c x n reduced to [-45, 45] deg: radial/circumferential
+ * at w = 1), [6..8] n, the normal (from the anterior sphere's centre in the cornea, the globe's
+ * centre elsewhere), [9..11] c, the in-plane circumferential direction, [12] w, the limbal weight:
  * 0 inside rc - limbal_band, 1 from the corneal edge rc = white_to_white/2 on (and in limbus and
  * sclera), smoothstep between. */
 int kt_eye_fibre_frames(const kt_eye *eye, const kt_mesh *m, double *F, kt_err *e);

@@ -54,8 +54,12 @@ static void frame_at(const kt_eye_geom *g, const kt_eye *eye, const double *p, i
     } else {
         memcpy(c, a2, sizeof c);
     }
-    /* turn the orthogonal pair by w times its angle to the nearest radial/circumferential pair */
-    double phi = atan2(p[1], p[0]), q = 0.5 * M_PI;
+    /* turn the pair about n, a1 towards a2, by w times the angle in the tangent plane from a1
+     * to the radial direction c x n, reduced to [-45, 45] deg: at w = 1 radial/circumferential */
+    double r[3];
+    cross3(c, n, r);
+    double phi = atan2(r[0] * a2[0] + r[1] * a2[1] + r[2] * a2[2], r[0] * a1[0] + r[1] * a1[1] + r[2] * a1[2]);
+    double q = 0.5 * M_PI;
     double delta = phi - q * round(phi / q), th = w * delta;
     double b1[3], b2[3];
     for (int k = 0; k < 3; k++) b1[k] = cos(th) * a1[k] + sin(th) * a2[k];

@@ -35,6 +35,21 @@ static const char *const ARCS[] = {"either", "single", "paired", NULL};
 
 double kt_patient_k(double r) { return 337.5 / r; }
 double kt_patient_post_k(double r) { return -KT_PATIENT_N_POST / r; }
+void kt_patient_default_posterior(const kt_toric *ant, kt_toric *post)
+{
+    double c = kt_patient_k(ant->r_steep) - kt_patient_k(ant->r_flat), a = fmod(ant->axis, 180), cyl;
+    if (a < 0) a += 180;
+    if (a >= 60 && a <= 120) cyl = KT_PATIENT_POST_WTR_SLOPE * c + KT_PATIENT_POST_WTR_D;
+    else if (a <= 30 || a >= 150) cyl = KT_PATIENT_POST_ATR_D;
+    else cyl = KT_PATIENT_POST_OBL_SLOPE * c + KT_PATIENT_POST_OBL_D;
+    double kp = kt_patient_post_k(KT_PATIENT_POST_RADIUS);
+    post->r_steep = -KT_PATIENT_N_POST / (kp - cyl / 2);
+    post->r_flat = -KT_PATIENT_N_POST / (kp + cyl / 2);
+    post->axis = KT_PATIENT_POST_AXIS;
+    post->conic = NAN;
+    post->source = KT_SOURCE_DEFAULT;
+}
+
 double kt_patient_age_factor(double age)
 {
     return 1 + KT_UQ_AGE_SLOPE_VALUE * (age - KT_UQ_AGE_PIVOT) / 10; /* scene.h: one copy */
@@ -63,11 +78,9 @@ static void defaults(kt_patient *p)
     memset(p, 0, sizeof *p);
     p->iop = KT_PATIENT_IOP_MMHG * MMHG;
     p->ant.conic = p->post.conic = NAN;
-    double kp = kt_patient_post_k(KT_PATIENT_POST_RADIUS);
-    p->post.r_steep = -KT_PATIENT_N_POST / (kp - KT_PATIENT_POST_CYL / 2);
-    p->post.r_flat = -KT_PATIENT_N_POST / (kp + KT_PATIENT_POST_CYL / 2);
-    p->post.axis = KT_PATIENT_POST_AXIS;
-    p->post.source = KT_SOURCE_DEFAULT;
+    /* the posterior of an anterior without cylinder until the anterior is known (parse) */
+    kt_toric no_cyl = {KT_PATIENT_POST_RADIUS, KT_PATIENT_POST_RADIUS, 0, NAN, KT_SOURCE_DEFAULT};
+    kt_patient_default_posterior(&no_cyl, &p->post);
     p->t_central = 0.54; /* Doughty & Zaman 2000 */
     p->t_zone = NAN;
     p->wtw = 11.7;       /* Rufer et al. 2005 */
@@ -149,6 +162,7 @@ static int parse_cornea(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *
         return kt_yml_fail(y, post, e, "cornea.posterior: expected either it or cornea.pentacam.back, not both");
     if (post && parse_k(y, post, "cornea.posterior", -1, &p->post, e)) return e->code;
     if (p->pentacam_back[0]) p->post.source = KT_SOURCE_PENTACAM;
+    if (!post && k) kt_patient_default_posterior(&p->ant, &p->post); /* follows the anterior */
     yaml_node_t *tc = kt_yml_get(y, n, "central_thickness");
     if (tc && p->pentacam_pachy[0])
         return kt_yml_fail(y, tc, e, "cornea.central_thickness: expected either it or cornea.pentacam.pachymetry, not both");

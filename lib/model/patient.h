@@ -21,7 +21,15 @@ enum { KT_ARCS_EITHER = 0, KT_ARCS_SINGLE, KT_ARCS_PAIRED };
 /* Population and convention defaults (sources in keratome-patient(5)). */
 #define KT_PATIENT_IOP_MMHG 15.0      /* Klein et al. 1992 (Beaver Dam Eye Study) */
 #define KT_PATIENT_POST_RADIUS 6.7    /* mm, mean posterior apical radius (keratome-scene(5)) */
-#define KT_PATIENT_POST_CYL 0.30      /* D, mean posterior astigmatism, Koch et al. 2012 */
+/* The default posterior astigmatism (D) follows the anterior keratometric cylinder C (D) by the
+ * regressions of Eom et al. 2015 (928 eyes, by the anterior steep meridian's class):
+ * with the rule 0.15 C + 0.22, oblique 0.05 C + 0.27, against the rule 0.27 (C not
+ * significant); its steep meridian vertical (Koch et al. 2012: 86.6% of eyes). */
+#define KT_PATIENT_POST_WTR_SLOPE 0.15
+#define KT_PATIENT_POST_WTR_D 0.22
+#define KT_PATIENT_POST_OBL_SLOPE 0.05
+#define KT_PATIENT_POST_OBL_D 0.27
+#define KT_PATIENT_POST_ATR_D 0.27
 #define KT_PATIENT_POST_AXIS 90.0     /* deg, posterior steep meridian vertical, Koch et al. 2012 */
 #define KT_PATIENT_N_POST 40.0        /* D mm: 1000 (1.376 - 1.336), posterior surface power */
 #define KT_PATIENT_DEPTH_MAX 0.9      /* deepest blade setting, fraction of the pachymetry */
@@ -76,6 +84,15 @@ double kt_patient_model_zone_thickness(const kt_patient *p);
 /* Keratometric power of a radius, D (index 1.3375), and the posterior surface power, D (< 0). */
 double kt_patient_k(double r);
 double kt_patient_post_k(double r);
+
+/* *post := the population posterior cornea of an eye whose anterior is *ant (keratome-patient(5),
+ * posterior): mean radius KT_PATIENT_POST_RADIUS, steep meridian KT_PATIENT_POST_AXIS, and a
+ * cylinder by the anterior keratometric cylinder C = K(r_steep) - K(r_flat) and the class of
+ * ant->axis: with the rule (60-120 deg) 0.15 C + 0.22 D, against the rule (0-30, 150-180 deg)
+ * 0.27 D, oblique 0.05 C + 0.27 D (Eom et al. 2015); source KT_SOURCE_DEFAULT, conic NAN.
+ * kt_patient_load applies it to keratometry; a caller that fits the anterior later (a Pentacam
+ * front without a back) applies it after the fit (kt_patient_scene does so for the mesh). */
+void kt_patient_default_posterior(const kt_toric *ant, kt_toric *post);
 
 /* The eye meridian (deg TABO) of a named site for this eye: "temporal", "nasal", "superior",
  * "inferior", "superotemporal", "superonasal", "inferotemporal", "inferonasal"; NAN when the

@@ -48,10 +48,13 @@ int kt_patient_scene(const kt_patient *p, const kt_scene *base, kt_scene *s, kt_
     eye->r_ant_steep = p->ant.r_steep;
     eye->r_ant_flat = p->ant.r_flat;
     eye->steep_axis = p->ant.axis;
-    /* The posterior, measured or the population default, toric in the mesh (eye_warp.c). */
-    eye->r_post_steep = p->post.r_steep, eye->r_post_flat = p->post.r_flat;
-    eye->post_axis = p->post.axis;
-    eye->r_post = 2 / (1 / p->post.r_steep + 1 / p->post.r_flat);
+    /* The posterior, measured or the population default of the anterior (fitted by now),
+     * toric in the mesh (eye_warp.c). */
+    kt_toric post = p->post;
+    if (post.source == KT_SOURCE_DEFAULT) kt_patient_default_posterior(&p->ant, &post);
+    eye->r_post_steep = post.r_steep, eye->r_post_flat = post.r_flat;
+    eye->post_axis = post.axis;
+    eye->r_post = 2 / (1 / post.r_steep + 1 / post.r_flat);
     eye->t_central = p->t_central;
     eye->wtw = p->wtw;
     eye->nring = 1;

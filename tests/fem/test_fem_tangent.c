@@ -2,7 +2,9 @@
  * body under a follower pressure, against closed forms.
  *  - material: uniaxial stress along a1 strains it by sigma/E1 (E1 + Ec with the limbal
  *    circumferential term), transverse shear a1-n by tau/Gt, in-plane shear by tau/mu, in
- *    rotated frames;
+ *    rotated frames; the orthotropic moduli keratome-scene(5) states (the stiffer direction's
+ *    exactly, the softer one's closed form, the limbal fibres along an oblique c) and that an
+ *    isotropic tet's constants give its isotropic matrix (keratome-vtk(5));
  *  - element: the six rigid modes are in the kernel of the fibre element (P1, P2 curved); a
  *    linear displacement field on an irregular box is reproduced (patch test: the interior
  *    rows of K u vanish) and its energy is V eps:C:eps;
@@ -114,6 +116,59 @@ static void test_material(void)
             CHECK_NEAR(strain_ab(eps, Q[k], Q[k]), 1.0 / ti.E1, 1e-12, "transversely isotropic: 1/E");
             CHECK_NEAR(strain_ab(eps, Q[1 - k], Q[1 - k]), -NU / ti.E1, 1e-12, "in-plane Poisson: -nu/E");
         }
+    }
+}
+
+/* Uniaxial modulus along unit in-plane direction d of the material C: 1 / (d.eps.d) under the
+ * unit stress d (x) d. */
+static double uniaxial(const double *C, const double *d)
+{
+    double sig[6], eps[6];
+    voigt_of(d, d, 1.0, sig);
+    solve6(C, sig, eps);
+    return 1.0 / strain_ab(eps, d, d);
+}
+
+/* What keratome-scene(5) (MATERIALS, eye.fibres) states of the orthotropic fibre matrix, in
+ * both orders of E1, E2 and rotated frames: uniaxial stress along the stiffer of a1, a2 has
+ * modulus E_t = max(E1, E2) exactly; along the softer one E_s E_t / (E_t - nu^2 (E_t - E_s))
+ * (the page's example: E_s 2.0, E_t 3.0, nu 0.49 gives 2.174 MPa, not 2.0); with E1 = E2 = E,
+ * uniaxial stress along any in-plane c that carries the limbal fibres Ec has modulus E + Ec, and
+ * along the in-plane direction normal to c E (E + Ec) / (E + Ec - nu^2 Ec). */
+static void test_orthotropy(void)
+{
+    for (int r = 0; r < 3; r++) {
+        double Q[3][3], C[36];
+        frame(-0.4 + 0.9 * r, 0.6 * r, 0.2 + 1.3 * r, Q);
+        for (int swap = 0; swap < 2; swap++) {
+            double Es = 2.0, Et = 3.0 + r;
+            kt_fibre_material fm = {swap ? Et : Es, swap ? Es : Et, 0.05, NU};
+            kt_fem_fibre_matrix(&fm, Q[0], Q[1], Q[2], Q[0], 0, C);
+            const double *soft = Q[swap ? 1 : 0], *stiff = Q[swap ? 0 : 1];
+            double want = Es * Et / (Et - NU * NU * (Et - Es));
+            CHECK_NEAR(uniaxial(C, stiff), Et, 1e-12, "uniaxial along the stiffer fibre direction: E_t");
+            CHECK_NEAR(uniaxial(C, soft), want, 1e-12, "uniaxial along the softer direction: E_s E_t / (E_t - nu^2 (E_t - E_s))");
+            if (r == 0) CHECK(fabs(uniaxial(C, soft) - 2.174) < 5e-4, "the page's example: %.4f MPa", uniaxial(C, soft));
+        }
+        /* transversely isotropic with the limbal term along an in-plane c at 35 deg from a1 */
+        double E = 2.0, Ec = 0.91 * E, c[3], b[3], t = 35 * KT_PI / 180;
+        for (int k = 0; k < 3; k++) {
+            c[k] = cos(t) * Q[0][k] + sin(t) * Q[1][k];
+            b[k] = -sin(t) * Q[0][k] + cos(t) * Q[1][k];
+        }
+        kt_fibre_material ti = {E, E, 0.05, NU};
+        kt_fem_fibre_matrix(&ti, Q[0], Q[1], Q[2], c, Ec, C);
+        CHECK_NEAR(uniaxial(C, c), E + Ec, 1e-12, "uniaxial along c: E_inplane + E_circumferential");
+        CHECK_NEAR(uniaxial(C, b), E * (E + Ec) / (E + Ec - NU * NU * Ec), 1e-12,
+                   "uniaxial normal to c in the plane: E (E + Ec) / (E + Ec - nu^2 Ec)");
+        /* keratome-vtk(5): an isotropic tet's constants E, E, E / (2 (1 + nu)), nu, 0 give
+         * exactly its isotropic matrix, in any frame */
+        double Ci[36], Cf[36], err = 0, big = 0;
+        kt_fibre_material iso = {3.0, 3.0, 3.0 / (2 * (1 + NU)), NU};
+        kt_fem_iso_matrix(3.0, NU, Ci);
+        kt_fem_fibre_matrix(&iso, Q[0], Q[1], Q[2], c, 0, Cf);
+        for (int k = 0; k < 36; k++) err = fmax(err, fabs(Cf[k] - Ci[k])), big = fmax(big, fabs(Ci[k]));
+        CHECK(err <= 1e-13 * big, "isotropic constants: the fibre matrix is the isotropic one (%.3g of %.3g)", err, big);
     }
 }
 
@@ -405,6 +460,7 @@ static void test_hydrostatic(int order, int curve)
 int main(void)
 {
     test_material();
+    test_orthotropy();
     test_patch(1, 0);
     test_patch(2, 0);
     test_patch(2, 1);

@@ -2,6 +2,7 @@
  * bad patients are refused at file:line:col before anything else; the patient's scene carries
  * the patient's values, is written as YAML and reads back to the same scene. */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -54,11 +55,12 @@ static void test_ok(void)
     CHECK_NEAR(p.ant.axis, 95, 1e-12, "steep axis");
     CHECK_NEAR(p.main_meridian, 180, 1e-12, "temporal is 180 deg in a right eye");
     CHECK(p.main_simulate == 1 && p.main_kind == KT_MAIN_CLEAR_CORNEAL, "main incision defaults");
-    /* Defaults: IOP 15 mmHg; posterior 0.30 D against the rule about a 6.7 mm mean radius. */
+    /* Defaults: IOP 15 mmHg; the posterior of a with-the-rule 1.5 D anterior (Eom et al. 2015:
+     * 0.15 x 1.5 + 0.22 = 0.445 D), steep vertical, about a 6.7 mm mean radius. */
     CHECK_NEAR(p.iop, 15 * 133.322387415e-6, 1e-12, "default IOP");
     CHECK(p.post.source == KT_SOURCE_DEFAULT, "posterior default");
     double ks = kt_patient_post_k(p.post.r_steep), kf = kt_patient_post_k(p.post.r_flat);
-    CHECK_NEAR(kf - ks, 0.30, 1e-12, "default posterior cylinder");
+    CHECK_NEAR(kf - ks, 0.445, 1e-12, "default posterior cylinder");
     CHECK_NEAR(0.5 * (ks + kf), -40.0 / 6.7, 1e-12, "default posterior mean power");
     CHECK_NEAR(p.post.axis, 90, 0, "default posterior steep axis vertical");
     CHECK_NEAR(p.depth_fraction, 0.9, 0, "default depth");
@@ -125,6 +127,65 @@ static void test_bad(void)
     }
 }
 
+/* The posterior cylinder (D) of a keratometry patient (a given posterior when post_k is set). */
+static double post_cyl(const char *k, const char *post_k, kt_toric *post)
+{
+    char text[512];
+    snprintf(text, sizeof text, "eye: OD\nage: 70\ncornea:\n  keratometry: %s\n%s%s%s", k,
+             post_k ? "  posterior: " : "", post_k ? post_k : "", post_k ? "\n" : "");
+    kt_patient p;
+    kt_err e;
+    int rc = load_text(text, &p, &e);
+    CHECK(rc == KT_OK, "patient %s: %s", k, e.msg);
+    if (rc != KT_OK) return NAN;
+    *post = p.post;
+    double ks = kt_patient_post_k(p.post.r_steep), kf = kt_patient_post_k(p.post.r_flat);
+    if (!post_k) CHECK(fabs(0.5 * (ks + kf) + 40.0 / 6.7) <= 1e-12, "%s: posterior mean power %.15g", k, 0.5 * (ks + kf));
+    return kf - ks;
+}
+
+/* The default posterior follows the anterior as Eom et al. 2015 (Am J Ophthalmol 160:717)
+ * regressed it: posterior cylinder 0.15 C + 0.22 D with the rule, 0.05 C + 0.27 D oblique,
+ * 0.27 D against the rule, steep vertical (the numbers here are the paper's, not the macros). */
+static void test_default_posterior(void)
+{
+    static const struct { const char *k; double cyl; const char *what; } cases[] = {
+        {"{k_steep: 44.02 D, k_flat: 42.52 D, steep_axis: 90 deg}", 0.15 * 1.5 + 0.22, "WTR 1.5 D"},
+        {"{k_steep: 44.02 D, k_flat: 42.52 D, steep_axis: 60 deg}", 0.15 * 1.5 + 0.22, "WTR 1.5 D at 60 deg"},
+        {"{k_steep: 44.02 D, k_flat: 42.52 D, steep_axis: 0 deg}", 0.27, "ATR 1.5 D"},
+        {"{k_steep: 44.02 D, k_flat: 42.52 D, steep_axis: 165 deg}", 0.27, "ATR 1.5 D at 165 deg"},
+        {"{k_steep: 44.02 D, k_flat: 42.52 D, steep_axis: 45 deg}", 0.05 * 1.5 + 0.27, "oblique 1.5 D"},
+        {"{k_steep: 44.02 D, k_flat: 42.52 D, steep_axis: 135 deg}", 0.05 * 1.5 + 0.27, "oblique 1.5 D at 135 deg"},
+        {"{k_steep: 45.27 D, k_flat: 42.27 D, steep_axis: 95 deg}", 0.15 * 3.0 + 0.22, "WTR 3.0 D"},
+        {"{k_steep: 43.27 D, k_flat: 43.27 D, steep_axis: 90 deg}", 0.22, "no anterior cylinder, 90 deg"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        kt_toric post;
+        double cyl = post_cyl(cases[i].k, NULL, &post);
+        CHECK(fabs(cyl - cases[i].cyl) <= 1e-9, "%s: default posterior cylinder %.15g, expected %.15g", cases[i].what, cyl,
+              cases[i].cyl);
+        CHECK(post.axis == 90 && post.source == KT_SOURCE_DEFAULT, "%s: posterior steep vertical, default", cases[i].what);
+    }
+    /* a measured posterior is kept */
+    kt_toric post;
+    double cyl = post_cyl(cases[2].k, "{k_steep: -6.3 D, k_flat: -5.8 D, steep_axis: 80 deg}", &post);
+    CHECK_NEAR(cyl, 0.5, 1e-12, "a given posterior is kept");
+    CHECK(post.axis == 80 && post.source == KT_SOURCE_KERATOMETRY, "a given posterior's axis and source");
+    /* the scene takes the default of the anterior it is built with (a Pentacam fit sets the
+     * anterior after loading): an ATR anterior there gives 0.27 D, whatever the load filled */
+    kt_scene base, s;
+    kt_err e = {0};
+    CHECK(kt_scene_load("plans/eye.yaml", &base, &e) == KT_OK, "base scene: %s", e.msg);
+    kt_patient p;
+    CHECK(load_text(OK_OD, &p, &e) == KT_OK, "patient: %s", e.msg);
+    p.ant.axis = 175;
+    memset(&e, 0, sizeof e);
+    CHECK(kt_patient_scene(&p, &base, &s, &e) == KT_OK, "patient scene: %s", e.msg);
+    CHECK_NEAR(kt_patient_post_k(s.eye.r_post_flat) - kt_patient_post_k(s.eye.r_post_steep), 0.27, 1e-12,
+               "the scene's posterior follows the anterior it is built with");
+    CHECK_NEAR(s.eye.post_axis, 90, 0, "the scene's posterior steep vertical");
+}
+
 /* The patient's scene: the patient's cornea, the pachymetry at the zone reached through the
  * peripheral thickness, the age rule on the cornea's moduli; written and read back equal. */
 static void test_scene(void)
@@ -174,6 +235,7 @@ int main(void)
     if (!mkdtemp(dir)) return 1;
     test_ok();
     test_bad();
+    test_default_posterior();
     test_scene();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
