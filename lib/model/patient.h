@@ -53,11 +53,16 @@ typedef struct kt_patient {
     int main_kind;              /* KT_MAIN_* */
     int main_simulate;          /* 1: cut in the model; 0: the surgeon's SIA vector below */
     double main_sia, main_sia_axis; /* D, deg */
+    int side_present;           /* a side port (paracentesis) is given */
+    double side_meridian;       /* its site, deg TABO, 0 <= m < 360 */
+    double side_width;          /* mm */
     int target_kind;            /* KT_TARGET_* */
     double target_residual;     /* D */
     int arcs;                   /* KT_ARCS_* */
     double max_arc;             /* deg */
     double zone;                /* incision zone diameter, mm */
+    double clearance;           /* deg at the zone: the least gap between an arc and a wound
+                                   (KT_CLEARANCE_DEG, clearance.h) */
     double depth_fraction;      /* fraction of the pachymetry at the zone, or 0 ... */
     double depth;               /* ... the blade depth, mm */
 } kt_patient;
