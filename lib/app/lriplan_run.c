@@ -192,6 +192,36 @@ static int read_table(const char *path, kt_lri_family *f, double step, int skip,
     return e->code;
 }
 
+/* A cut lri-plan wrote that cutplan refuses (KT_EINPUT: a piece cut off, an element left
+ * hanging) is refused again in the surgeon's terms: the patient file and what to change, without
+ * the plan file it wrote or a node number. Other errors pass unchanged. */
+static int cut_refused(const kt_lri_answer *a, const char *family, const char *plan, kt_err *e)
+{
+    if (e->code != KT_EINPUT) return e->code;
+    char why[sizeof e->msg], *w = why;
+    const char *m = e->msg;
+    size_t n = strlen(plan);
+    if (strncmp(m, plan, n) == 0) { /* "PLAN:line:col: " */
+        m += n;
+        for (int colons = 0; *m && colons < 2; m++) colons += *m == ':';
+        while (*m == ':' || *m == ' ') m++;
+    }
+    while (*m && w < why + sizeof why - 1) {
+        if (strncmp(m, "(node ", 6) == 0) { /* "(node N at x y z mm among them)" -> "(at ...)" */
+            const char *at = strstr(m, " at ");
+            if (at) m = at + 1, *w++ = '(';
+        }
+        if (strncmp(m, "tunnel 1", 8) == 0) m += 8, w += snprintf(w, (size_t)(why + sizeof why - w), "the main incision");
+        else if (strncmp(m, "incision 1", 10) == 0)
+            m += 10, w += snprintf(w, (size_t)(why + sizeof why - w), "the %s arcs", family);
+        else *w++ = *m++;
+        if (w >= why + sizeof why - 1) w = why + sizeof why - 1;
+    }
+    *w = '\0';
+    return kt_fail(e, KT_EINPUT, "%s: %s (before any solve); change main_incision (meridian, width) or constraints "
+                   "(max_arc, clearance)", a->p.path, why);
+}
+
 /* kind 0: one arc on the steeper half; 1: an equal pair; 2: an unequal pair, the longer arc on
  * the steeper half. pre (NULL: one family) is the physics the families share: solved here on
  * the first family's intact mesh (the snapped one with a main incision: the tunnel snaps the
@@ -225,7 +255,7 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene
     if (join(cut, o->outdir, leaf, e)) return e->code;
     kt_cutplan_opts co = {plan, mesh, edits, a->main_steps ? cut : NULL, 1, 1};
     double w0 = kt_now(), c0 = cpu_now();
-    if (kt_cutplan_run(&co, e)) return e->code;
+    if (kt_cutplan_run(&co, e)) return cut_refused(a, name, plan, e);
     double w1 = kt_now(), c1 = cpu_now();
     if (a->main_steps) mesh = cut;
     int solved_here = pre && !pre->solved;

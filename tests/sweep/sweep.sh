@@ -52,7 +52,8 @@ cases() {
 # One case: a patient of 1.50 D at the axis (K 44.60 / 43.10 D), 67 years, 640 um at the zone.
 one() {
     local B=$1 out=$2 eye=$3 axis=$4 wtw=$5 width=$6 site=$7 mode=$8
-    local name="$eye-$axis-$wtw-$width-$site-$mode" dir="$out/$name"
+    local name="$eye-$axis-$wtw-$width-$site-$mode"
+    local dir="$out/$name"
     rm -rf "$dir" && mkdir -p "$dir"
     cat > "$dir/patient.yaml" <<EOF
 name: $name
@@ -122,24 +123,25 @@ run() {
 
 table() {
     local out=$1
-    cat "$out"/rows/*.tsv 2>/dev/null | "$py" -c '
+    cat "$out"/rows/*.tsv 2>/dev/null > "$out/all.tsv"
+    "$py" - "$out/all.tsv" <<'PY'
 import collections, re, sys
-rows = [l.rstrip("\n").split("\t") for l in sys.stdin if l.strip()]
+rows = [l.rstrip("\n").split("\t") for l in open(sys.argv[1]) if l.strip()]
 by = collections.Counter(r[6] for r in rows)
-print(f"eyes run: {len(rows)}; planned: {by[\"plan\"]}; refused: {by[\"refusal\"]}; crashed: {by[\"crash\"]}")
+print(f"eyes run: {len(rows)}; planned: {by['plan']}; refused: {by['refusal']}; crashed: {by['crash']}")
 for mode in ("fast", "default"):
     m = [r for r in rows if r[5] == mode]
     if m:
         c = collections.Counter(r[6] for r in m)
         cpu = sorted(float(r[8]) for r in m if r[8] != "nan")
         med = cpu[len(cpu) // 2] if cpu else float("nan")
-        print(f"  {mode}: {len(m)} run, {c[\"plan\"]} planned, {c[\"refusal\"]} refused, {c[\"crash\"]} crashed; median CPU {med:.0f} s")
+        print(f"  {mode}: {len(m)} run, {c['plan']} planned, {c['refusal']} refused, {c['crash']} crashed; median CPU {med:.0f} s")
 reasons = collections.Counter(re.sub(r"[-0-9.]+", "#", r[9].split(": ", 1)[-1])[:140] for r in rows if r[6] == "refusal")
 for k, v in reasons.most_common(): print(f"  refusal x{v}: {k}")
 for r in rows:
     if r[6] == "crash": print("  CRASH " + " ".join(r[:6]) + ": " + r[9])
 sys.exit(1 if by["crash"] else 0)
-'
+PY
 }
 
 case "${1:-}" in
