@@ -76,7 +76,7 @@ static void defaults(kt_patient *p)
     p->main_simulate = 1;
     p->target_residual = 0.5; /* Villegas et al. 2014 */
     p->max_arc = 90;
-    p->zone = 10.5;           /* Nichamin 2006 */
+    p->zone = NAN;            /* 10.5 mm (Nichamin 2006), inside the corneal edge: check() */
     p->clearance = KT_CLEARANCE_DEG;
     p->depth_fraction = KT_PATIENT_DEPTH_MAX;
 }
@@ -289,6 +289,8 @@ static int check(kt_yml *y, const yaml_node_t *root, kt_patient *p, kt_err *e)
     yaml_node_t *cons = kt_yml_get(y, root, "constraints"), *cornea = kt_yml_get(y, root, "cornea");
     yaml_node_t *zn = kt_yml_get(y, cons, "zone");
     double clear = p->wtw - PATIENT_LIMBUS;
+    if (isnan(p->zone)) p->zone = fmin(KT_PATIENT_ZONE, clear); /* not given: the default, or the
+                                                                    widest the cornea allows */
     if (p->zone <= PATIENT_OPTICAL_ZONE || p->zone > clear)
         return kt_yml_fail(y, zn ? zn : root, e,
                            "constraints.zone: expected a diameter outside the optical zone (> %g mm) and inside "

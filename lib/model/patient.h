@@ -25,6 +25,8 @@ enum { KT_ARCS_EITHER = 0, KT_ARCS_SINGLE, KT_ARCS_PAIRED };
 #define KT_PATIENT_POST_AXIS 90.0     /* deg, posterior steep meridian vertical, Koch et al. 2012 */
 #define KT_PATIENT_N_POST 40.0        /* D mm: 1000 (1.376 - 1.336), posterior surface power */
 #define KT_PATIENT_DEPTH_MAX 0.9      /* deepest blade setting, fraction of the pachymetry */
+#define KT_PATIENT_ZONE 10.5          /* mm, the incision zone, peripheral clear cornea (Nichamin
+                                         2006); at most white_to_white - 1 mm when not given */
 
 /* A toric surface at its apex: radii of the steep and flat meridians, the steep meridian,
  * the conic constant Q (NAN: not measured), and where the values came from. */
