@@ -83,83 +83,12 @@ static int drop_slivers(kt_incise *c, kt_phase *ph, int *dropped, kt_err *e)
     return e->code;
 }
 
-/* A tet of the tunnel's faces whose other faces are all cut or on the boundary hangs by one face:
- * where the blade's plane passes through a vertex, the faces between the plane's two sides can
- * wrap three faces of a tet that pokes across it (its centroid on one side, three neighbours on
- * the other). Attached by one face, its tip is held by the shear of that tet alone: the lamellar
- * cornea's transverse shear modulus (keratome-scene(5): about 10 kPa) is of the prestress's
- * order (11-20 kPa in-plane), and the prestressed tangent of such a tet has negative
- * directions, so the cut mesh's stiffness is not positive definite. Each such tet is put on
- * the other side of the cut when that leaves it held by two faces or more (its cut faces then
- * run along its other faces, within the blade's rectangle), else its faces are dropped (it
- * stays with its neighbours, as a sliver does). Repeated until no tet hangs; *moved and
- * *dropped count the tets. */
-static int closed(const kt_incise *c, const unsigned char *sel, int s)
+/* May the face at slot be cut by the tunnel (both tets in the cornea or limbus, the face within
+ * the blade's rectangle)? For kt_incise_unhang. */
+static int tunnel_face_ok(const kt_incise *c, const void *ctx, int slot)
 {
-    return c->nbr[s] < 0 || c->cut[s] || sel[s];
-}
-
-static int unhang_tet(kt_incise *c, const kt_tunnel *t, unsigned char *sel, int tet, int *moved, int *dropped)
-{
-    int nsel = 0, nclosed = 0, nok = 0, open[4];
-    for (int j = 0; j < 4; j++) {
-        int s = 4 * tet + j;
-        open[j] = !closed(c, sel, s);
-        nsel += sel[s], nclosed += !open[j];
-        nok += open[j] && kt_incise_in_front(c->m, c->nbr[s] / 4) && face_key(c, t, s, 1) >= 0;
-    }
-    if (nsel == 0 || nclosed < 3) return 0;
-    /* moved across: its open faces cut, its cut ones open; then held by nsel faces */
-    int flip = nok == 4 - nclosed && nclosed - nsel + (4 - nclosed) <= 2;
-    for (int j = 0; j < 4; j++) {
-        int s = 4 * tet + j;
-        if (sel[s]) sel[s] = sel[c->nbr[s]] = 0;
-        else if (flip && open[j]) sel[s] = sel[c->nbr[s]] = 1;
-    }
-    if (flip) (*moved)++;
-    else (*dropped)++;
-    return flip;
-}
-
-static int unhang(kt_incise *c, const kt_tunnel *t, kt_phase *ph, int *moved, int *dropped, kt_err *e)
-{
-    int ne = c->m->ne;
-    unsigned char *sel = kt_calloc((size_t)4 * ne, 1, e);
-    signed char *minus = kt_calloc((size_t)ne, 1, e); /* 1: the tet keeps the original nodes */
-    if (e->code) goto done;
-    for (int k = 0; k < ne; k++) { /* the side of its centroid; the faces' own sides below */
-        double d = 0;
-        for (int v = 0; v < 4; v++) d += dot3(t->normal, c->m->xyz + 3 * (size_t)c->m->tet[(size_t)k * c->nv + v], t->entry);
-        minus[k] = !(d > 0);
-    }
-    for (int i = 0; i < ph->nface; i++) {
-        int s = ph->face[i].slot;
-        sel[s] = sel[c->nbr[s]] = 1;
-        minus[s / 4] = 1, minus[c->nbr[s] / 4] = 0;
-    }
-    for (int pass = 0, again = 1; again && pass < 100; pass++) {
-        again = 0;
-        for (int s = 0; s < 4 * ne; s++) {
-            int before = *moved + *dropped;
-            if (sel[s] && unhang_tet(c, t, sel, s / 4, moved, dropped)) minus[s / 4] = !minus[s / 4];
-            again |= *moved + *dropped != before;
-        }
-    }
-    /* The faces anew, each from its minus side: a face's two tets are on opposite sides. */
-    int n = 0, cap = 0;
-    for (int s = 0; s < 4 * ne; s++) cap += sel[s] && s < c->nbr[s];
-    kt_cutface *f = kt_calloc((size_t)cap + 1, sizeof *f, e);
-    if (!f) goto done;
-    for (int s = 0; s < 4 * ne; s++) {
-        if (!sel[s] || s > c->nbr[s]) continue;
-        int slot = minus[s / 4] ? s : c->nbr[s];
-        f[n].slot = slot, f[n].side = -1, f[n++].key = 0;
-    }
-    free(ph->face);
-    ph->face = f, ph->nface = n;
-done:
-    free(sel), free(minus);
-    return e->code;
+    return kt_incise_in_front(c->m, c->nbr[slot] / 4) && kt_incise_in_front(c->m, slot / 4) &&
+           face_key(c, ctx, slot, 1) >= 0;
 }
 
 int kt_incise_tunnel_phase(kt_incise *c, const kt_tunnel *t, int index, kt_phase *ph, kt_err *e)
@@ -178,7 +107,7 @@ int kt_incise_tunnel_phase(kt_incise *c, const kt_tunnel *t, int index, kt_phase
     }
     ph->nface = n;
     int dropped = 0, moved = 0, hung = 0;
-    if (drop_slivers(c, ph, &dropped, e) || unhang(c, t, ph, &moved, &hung, e) || drop_slivers(c, ph, &dropped, e))
+    if (drop_slivers(c, ph, &dropped, e) || kt_incise_unhang(c, ph, t->entry, t->normal, tunnel_face_ok, t, &moved, &hung, e) || drop_slivers(c, ph, &dropped, e))
         return e->code;
     n = ph->nface;
     if (n == 0) {
