@@ -8,7 +8,8 @@
 #   sweep.sh one BUILD OUT EYE AXIS WTW WIDTH SITE MODE
 #                                     one case: its row (tab-separated) on stdout, its files in
 #                                     OUT/<case>/ (kept only for a crash or a refusal)
-#   sweep.sh run BUILD OUT [smoke]    every case one after the other under nice -n 10 (the
+#   sweep.sh run BUILD OUT [smoke|-]  every case (-: the cases on stdin, e.g. a sample:
+#                                     sweep.sh cases | awk 'NR % 461 == 17') one after the other under nice -n 10 (the
 #                                     machine is shared), resumable: a case with a row in
 #                                     OUT/rows/ is not run again; then the table
 #   sweep.sh table OUT                the table: eyes, planned, refusals by reason, crashes
@@ -109,15 +110,16 @@ run() {
     local B=$1 out=$2 sel=${3:-}
     mkdir -p "$out/rows"
     local n=0 total
-    total=$(cases $sel | wc -l)
-    cases $sel | while read -r eye axis wtw width site mode; do
+    if [ "$sel" = - ]; then cat > "$out/cases"; else cases $sel > "$out/cases"; fi
+    total=$(wc -l < "$out/cases")
+    while read -r eye axis wtw width site mode; do
         n=$((n + 1))
         local key="$eye-$axis-$wtw-$width-$site-$mode"
         [ -s "$out/rows/$key.tsv" ] && continue
         echo "sweep: $n/$total $key" >&2
         nice -n 10 bash "$here/sweep.sh" one "$B" "$out" $eye $axis $wtw $width $site $mode > "$out/rows/$key.tmp" &&
             mv "$out/rows/$key.tmp" "$out/rows/$key.tsv"
-    done
+    done < "$out/cases"
     table "$out"
 }
 
