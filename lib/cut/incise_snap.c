@@ -1,8 +1,8 @@
 /* incise_snap.c: cuts on meshes without an incision-ready surface. Every tet is put on one
  * side of the cutting surface by the exact side of its centroid; the faces between the two
  * sides (restricted to the cut's extent) are the cut. Their vertices closer to the surface than
- * a fraction of their shortest edge are snapped onto it, unless that would invert an element
- * or push its quality below the plan's limit: then the whole cut is refused and the mesh kept. */
+ * a fraction of their shortest edge are snapped onto it, except those whose move would invert an
+ * element or push its quality below the plan's limit: they stay where they are. */
 #include "incise_int.h"
 
 #include <math.h>
@@ -69,25 +69,42 @@ static void move_mid_edges(kt_incise *c, const double *old, const unsigned char 
     }
 }
 
-/* Every tet touching a moved node keeps a positive volume and an acceptable quality. */
-static int check_snapped(kt_incise *c, const double *old, const unsigned char *moved,
-                         const char *what, kt_err *e)
+/* Is the tet acceptable after the moves: a positive volume, and a quality at least the plan's
+ * limit or at least its own before? */
+static int tet_ok(const kt_incise *c, const double *old, const int *tv)
+{
+    double qn = quality(c->m->xyz, tv), qo = quality(old, tv);
+    return qn > 0 && (qn >= c->plan->snap.min_quality || qn >= qo); /* NaN fails */
+}
+
+/* A node whose move would invert a tet, or push its quality below the plan's limit (and below
+ * its own before), is not snapped: every bad tet's moved vertices go back, until every tet
+ * touching a moved node is acceptable (with none moved, the mesh is the input). The cut then
+ * runs along those nodes as meshed, a little off the surface. *kept counts them. */
+static void check_snapped(kt_incise *c, const double *old, unsigned char *moved, int *kept)
 {
     kt_mesh *m = c->m;
-    double qmin = c->plan->snap.min_quality;
-    for (int t = 0; t < m->ne; t++) {
-        const int *tv = m->tet + (size_t)t * c->nv;
-        if (!moved[tv[0]] && !moved[tv[1]] && !moved[tv[2]] && !moved[tv[3]]) continue;
-        double qn = quality(m->xyz, tv), qo = quality(old, tv);
-        if (!(qn > 0)) /* NaN too */
-            return kt_fail(e, KT_ERUN, "snapping nodes onto the %s would invert tet %d; "
-                           "lower snap.fraction or use a finer mesh", what, t + 1);
-        if (!(qn >= qmin) && !(qn >= qo))
-            return kt_fail(e, KT_ERUN, "snapping nodes onto the %s would lower the quality "
-                           "of tet %d to %.3g (limit snap.min_quality %.3g, was %.3g); lower "
-                           "snap.fraction or use a finer mesh", what, t + 1, qn, qmin, qo);
+    *kept = 0;
+    for (int again = 1; again;) {
+        again = 0;
+        for (int t = 0; t < m->ne; t++) {
+            const int *tv = m->tet + (size_t)t * c->nv;
+            if ((!moved[tv[0]] && !moved[tv[1]] && !moved[tv[2]] && !moved[tv[3]]) || tet_ok(c, old, tv)) continue;
+            for (int k = 0; k < 4; k++)
+                if (moved[tv[k]]) {
+                    memcpy(m->xyz + 3 * (size_t)tv[k], old + 3 * (size_t)tv[k], 3 * sizeof(double));
+                    moved[tv[k]] = 0, (*kept)++, again = 1;
+                }
+        }
+        if (again && m->order == 2) { /* the mid-edge nodes anew from their vertices */
+            for (int t = 0; t < m->ne; t++)
+                for (int k = 4; k < c->nv; k++) {
+                    size_t v = (size_t)m->tet[(size_t)t * c->nv + k];
+                    memcpy(m->xyz + 3 * v, old + 3 * v, 3 * sizeof(double));
+                }
+            move_mid_edges(c, old, moved);
+        }
     }
-    return KT_OK;
 }
 
 int kt_incise_snap(kt_incise *c, const unsigned char *flag, kt_incise_proj proj,
@@ -115,13 +132,13 @@ int kt_incise_snap(kt_incise *c, const unsigned char *flag, kt_incise_proj proj,
     }
     if (nmoved == 0) goto done;
     if (m->order == 2) move_mid_edges(c, old, moved);
-    if (check_snapped(c, old, moved, what, e)) {
-        memcpy(m->xyz, old, (size_t)3 * m->nn * sizeof(double));
-        goto done;
-    }
+    int kept = 0;
+    check_snapped(c, old, moved, &kept);
+    nmoved -= kept;
     c->st.snapped += nmoved;
     c->st.max_snap = fmax(c->st.max_snap, maxd);
-    kt_log(c->quiet, "cutplan: snapped %d nodes onto the %s (at most %.3g mm)\n", nmoved, what, maxd);
+    kt_log(c->quiet, "cutplan: snapped %d nodes onto the %s (at most %.3g mm)", nmoved, what, maxd);
+    kt_log(c->quiet, kept ? "; %d left where they were (snapping them would invert or flatten a tet)\n" : "\n", kept);
 done:
     free(h);
     free(old);
