@@ -22,9 +22,10 @@ if ! "$B/lri-plan" --fast -q plans/patients/atr-os.yaml -o "$tmp/plan" > "$tmp/s
     echo "FAILED: lri-plan: $(cat "$tmp/err")"; exit 1
 fi
 cat "$tmp/summary"
-"$py" - "$tmp/plan" <<'PY'
+"$py" - "$tmp/plan" "$tmp/summary" <<'PY'
 import json, math, sys
 out = sys.argv[1]
+summary = open(sys.argv[2]).read()
 d = json.load(open(f"{out}/plan.json"))
 fails = []
 def check(cond, what):
@@ -54,7 +55,12 @@ e = [float(l.split("E_inplane: ")[1].split()[0]) for l in scene.splitlines() if 
 check(len(e) == 1 and abs(e[0] - 2.0 * (1 + 0.075 * (74 - 60) / 10)) < 1e-9, f"age rule on the cornea: {e}")
 check(d["main_incision"]["meridian_deg"] == 0.0, "temporal is 0 deg in a left eye")
 head = {}
-for line in open(f"{out}/paired.edits"):
+# The pair at 178/358 deg would run its 358 deg arc through the temporal incision at 0 deg
+# (keratome-patient(5), CLEARANCE): it is left out, the single arc at 178 deg kept.
+check([c["incisions"] for c in d["candidates"]] == ["single"], f"only the single arc: {[c['incisions'] for c in d['candidates']]}")
+check("paired arcs left out: the arc at 358 deg would come within 15 deg of the main incision at 0 deg" in summary,
+      "the summary says why the pair is left out")
+for line in open(f"{out}/single.edits"):
     w = line.split()
     if w and w[0] == "step": break
     if w: head[w[0]] = w[1:]

@@ -347,6 +347,12 @@ static void page(FILE *f, const kt_lri_answer *a, const kt_lriplan_opts *o, cons
         fputs(" D</td></tr>\n", f);
     }
     fputs("</table>\n", f);
+    for (int k = 0; k < 3; k++)
+        if (a->clear_note[k][0]) {
+            fputs("<p class=\"note\">Clearance: ", f);
+            kt_html_text(f, a->clear_note[k]);
+            fputs(".</p>\n", f);
+        }
 
     fputs("<h2>3. Inputs and fitted surfaces</h2>\n<div class=\"row\"><div style=\"flex:1 1 420px\"><table>\n", f);
     fputs("<tr><th>input</th><th>value</th></tr>\n", f);

@@ -4,6 +4,7 @@
 
 #include <stdint.h>
 
+#include "clearance.h"
 #include "curv.h"
 #include "lriplan_run.h"
 #include "patient.h"
@@ -77,6 +78,8 @@ typedef struct kt_lri_answer {
     kt_astig main_sia_kerato, main_sia_total; /* its simulated SIA (lriplan_main.c) */
     int nfam;
     kt_lri_family fam[3];
+    char clear_note[3][320];          /* why a family (single, paired, unequal) was trimmed or left
+                                       out to keep clear of the wounds ("": neither) */
     int chosen;                       /* family index of the answer */
     double mesh_seconds, solve_seconds;
     int nodes;                        /* of the mesh */
@@ -115,6 +118,9 @@ void kt_lri_main_sia(kt_lri_answer *a);
 /* How many steps of a family's edits the tunnel took (a portion of the blade's advance that
  * splits no node merges into the next one, so it may be fewer than planned). */
 int kt_lri_main_count(const char *edits, int *n, kt_err *e);
+/* The wounds the arcs keep clear of (keratome-patient(5), CLEARANCE): the main incision's tunnel
+ * (simulated or not) and the side port; *nw of them (at most 2). KT_EINPUT as kt_lri_main_check. */
+int kt_lri_wounds(const kt_patient *p, const kt_scene *s, kt_wound w[2], int *nw, kt_err *e);
 
 /* The first-order band (lriplan_band.c; lri-plan(1), BAND): read RUN/derivatives.tsv of a
  * family's run into f->band (the first `skip` steps after step 0 are the main incision's); the

@@ -37,6 +37,28 @@ int kt_lri_main_check(const kt_patient *p, kt_scene *s, kt_err *e)
     return KT_OK;
 }
 
+int kt_lri_wounds(const kt_patient *p, const kt_scene *s, kt_wound w[2], int *nw, kt_err *e)
+{
+    *nw = 0;
+    if (p->main_present) {
+        kt_tunnel t = {0};
+        t.meridian = p->main_meridian, t.width = p->main_width, t.length = KT_TUNNEL_LENGTH;
+        t.entry_diameter = entry_diameter(p, s), t.steps = MAIN_STEPS;
+        const char *field;
+        char msg[400];
+        if (kt_tunnel_derive(&s->eye, &t, &field, msg, sizeof msg))
+            return kt_fail(e, KT_EINPUT, "%s: main_incision: its tunnel's %s: %s", p->path, field, msg);
+        kt_wound_of_tunnel(&t, "the main incision", &w[(*nw)++]);
+    }
+    if (p->side_present) { /* its footprint from the corneal edge in to the optical zone: the
+                              safe side (it crosses every incision zone); not cut */
+        kt_wound *v = &w[(*nw)++];
+        v->meridian = p->side_meridian, v->width = p->side_width, v->name = "the side port";
+        v->r_in = 0.5 * s->eye.optical_zone, v->r_out = 0.5 * p->wtw;
+    }
+    return KT_OK;
+}
+
 int kt_lri_main_steps(const kt_patient *p) { return p->main_present && p->main_simulate ? MAIN_STEPS : 0; }
 
 int kt_lri_main_plan(FILE *f, const kt_patient *p, const kt_scene *s)

@@ -231,6 +231,8 @@ void kt_lri_summary(const kt_lri_answer *a, const kt_lriplan_opts *o, FILE *s)
         fprintf(s, "    %-7s at %3.0f deg: %-16s residual %.2f D @ %3.0f%s\n", c->name, c->meridian, arcs, c->pred[c->best].mag,
                 c->pred[c->best].axis, i == a->chosen ? "  <- chosen" : "");
     }
+    for (int k = 0; k < 3; k++)
+        if (a->clear_note[k][0]) fprintf(s, "    (%s)\n", a->clear_note[k]);
     kt_lri_arc arcs[2];
     int narc = kt_lri_arcs(a, arcs);
     if (narc == 0) {

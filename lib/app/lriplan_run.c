@@ -192,13 +192,43 @@ static int read_table(const char *path, kt_lri_family *f, double step, int skip,
     return e->code;
 }
 
+/* A cut lri-plan wrote that cutplan refuses (KT_EINPUT: a piece cut off, an element left
+ * hanging) is refused again in the surgeon's terms: the patient file and what to change, without
+ * the plan file it wrote or a node number. Other errors pass unchanged. */
+static int cut_refused(const kt_lri_answer *a, const char *family, const char *plan, kt_err *e)
+{
+    if (e->code != KT_EINPUT) return e->code;
+    char why[sizeof e->msg], *w = why;
+    const char *m = e->msg;
+    size_t n = strlen(plan);
+    if (strncmp(m, plan, n) == 0) { /* "PLAN:line:col: " */
+        m += n;
+        for (int colons = 0; *m && colons < 2; m++) colons += *m == ':';
+        while (*m == ':' || *m == ' ') m++;
+    }
+    while (*m && w < why + sizeof why - 1) {
+        if (strncmp(m, "(node ", 6) == 0) { /* "(node N at x y z mm among them)" -> "(at ...)" */
+            const char *at = strstr(m, " at ");
+            if (at) m = at + 1, *w++ = '(';
+        }
+        if (strncmp(m, "tunnel 1", 8) == 0) m += 8, w += snprintf(w, (size_t)(why + sizeof why - w), "the main incision");
+        else if (strncmp(m, "incision 1", 10) == 0)
+            m += 10, w += snprintf(w, (size_t)(why + sizeof why - w), "the %s arcs", family);
+        else *w++ = *m++;
+        if (w >= why + sizeof why - 1) w = why + sizeof why - 1;
+    }
+    *w = '\0';
+    return kt_fail(e, KT_EINPUT, "%s: %s (before any solve); change main_incision (meridian, width) or constraints "
+                   "(max_arc, clearance)", a->p.path, why);
+}
+
 /* kind 0: one arc on the steeper half; 1: an equal pair; 2: an unequal pair, the longer arc on
  * the steeper half. pre (NULL: one family) is the physics the families share: solved here on
  * the first family's intact mesh (the snapped one with a main incision: the tunnel snaps the
  * same nodes in every family) and lent to every family's run, which borrows it when its mesh
  * and scene are the same bytes (kt_aug_run_opts.physics) and solves its own otherwise. */
-static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene *s, int kind, const char *mesh,
-                      const char *scene, kt_aug_physics *pre, kt_err *e)
+static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene *s, int kind, double centre, int nstep,
+                      const char *mesh, const char *scene, kt_aug_physics *pre, kt_err *e)
 {
     static const char *const NAMES[] = {"single", "paired", "unequal"};
     const char *name = NAMES[kind];
@@ -207,9 +237,9 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene
     memset(f, 0, sizeof *f);
     f->paired = kind > 0, f->unequal = kind == 2;
     snprintf(f->name, sizeof f->name, "%s", name);
-    f->meridian = kind == 1 ? a->p.ant.axis : a->steep_half;
+    f->meridian = centre;
     f->ratio = kind == 2 ? a->ratio : 1;
-    f->nstep = (int)floor(a->p.max_arc / o->step + 1e-9);
+    f->nstep = nstep;
     if (f->nstep > KT_LRIPLAN_MAXSTEP) return kt_fail(e, KT_EINPUT, "--step %g: expected at most %d steps to max_arc", o->step, KT_LRIPLAN_MAXSTEP);
     snprintf(leaf, sizeof leaf, "plan-%s.yaml", name);
     if (join(plan, o->outdir, leaf, e)) return e->code;
@@ -225,7 +255,7 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene
     if (join(cut, o->outdir, leaf, e)) return e->code;
     kt_cutplan_opts co = {plan, mesh, edits, a->main_steps ? cut : NULL, 1, 1};
     double w0 = kt_now(), c0 = cpu_now();
-    if (kt_cutplan_run(&co, e)) return e->code;
+    if (kt_cutplan_run(&co, e)) return cut_refused(a, name, plan, e);
     double w1 = kt_now(), c1 = cpu_now();
     if (a->main_steps) mesh = cut;
     int solved_here = pre && !pre->solved;
@@ -261,6 +291,48 @@ static int run_family(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene
     if (read_table(tsv, f, o->step, skip, e)) return e->code;
     if (!o->no_band && kt_lri_band_read(run, f, skip, e)) return e->code;
     a->nfam++;
+    return KT_OK;
+}
+
+/* Each family's arcs kept clear of the wounds (keratome-patient(5), CLEARANCE), decided before
+ * anything is meshed: centre[k] and nstep[k] (0: left out, fam[k] cleared), a note for each
+ * family trimmed or left out. A single arc that would not keep clear on the steeper half goes on
+ * the other half when that allows a longer one. No family left: KT_EINPUT naming the patient
+ * file and what to change. */
+static int clear_families(const kt_lriplan_opts *o, kt_lri_answer *a, const kt_scene *s, int fam[3], double centre[3],
+                          int nstep[3], kt_err *e)
+{
+    static const char *const NAMES[] = {"single", "paired", "unequal"};
+    kt_wound w[2];
+    int nw, left = 0;
+    if (kt_lri_wounds(&a->p, s, w, &nw, e)) return e->code;
+    for (int k = 0; k < 3; k++) {
+        centre[k] = k == 1 ? a->p.ant.axis : a->steep_half;
+        kt_clear_result r;
+        kt_clear_family(w, nw, centre[k], k > 0, k == 2 ? a->ratio : 1, a->p.max_arc, a->p.zone / 2, a->p.clearance, &r);
+        if (k == 0 && r.trimmed) {
+            kt_clear_result r2;
+            double other = fmod(centre[0] + 180, 360);
+            kt_clear_family(w, nw, other, 0, 1, a->p.max_arc, a->p.zone / 2, a->p.clearance, &r2);
+            if (r2.arc > r.arc) centre[0] = other, r = r2;
+        }
+        nstep[k] = (int)floor(r.arc / o->step + 1e-9);
+        if (nstep[k] > KT_LRIPLAN_MAXSTEP) return kt_fail(e, KT_EINPUT, "--step %g: expected at most %d steps to max_arc", o->step, KT_LRIPLAN_MAXSTEP);
+        a->clear_note[k][0] = '\0';
+        if (fam[k] && nstep[k] == 0) {
+            snprintf(a->clear_note[k], sizeof a->clear_note[k], "%s arcs left out: %s", NAMES[k], r.reason);
+            fam[k] = 0;
+        } else if (fam[k] && r.trimmed) {
+            snprintf(a->clear_note[k], sizeof a->clear_note[k], "%s arcs at most %g deg: %s", NAMES[k], nstep[k] * o->step,
+                     r.reason);
+        }
+        left += fam[k];
+        if (a->clear_note[k][0]) kt_log(o->quiet, "lri-plan: %s\n", a->clear_note[k]);
+    }
+    if (left == 0)
+        return kt_fail(e, KT_EINPUT, "%s: no arc keeps %g deg clear of the wounds (%s); allow other arcs "
+                       "(constraints.incisions), move the main incision (main_incision.meridian) or lower "
+                       "constraints.clearance", a->p.path, a->p.clearance, a->clear_note[1][0] ? a->clear_note[1] : a->clear_note[0]);
     return KT_OK;
 }
 
@@ -301,6 +373,10 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
         rc = kt_fail(e, KT_EINPUT, "--step %g: expected an angle in (0, max_arc = %g] deg", o->step, a->p.max_arc);
     if (rc == KT_OK) rc = make_scene(o, a, s, base, e);
     if (rc == KT_OK) rc = kt_lri_main_check(&a->p, s, e);
+    int fam[3] = {a->p.arcs != KT_ARCS_PAIRED, a->p.arcs != KT_ARCS_SINGLE,
+                  a->p.arcs != KT_ARCS_SINGLE && a->ratio < KT_LRIPLAN_SYMMETRIC}, nstep[3];
+    double centre[3];
+    if (rc == KT_OK) rc = clear_families(o, a, s, fam, centre, nstep, e);
     if (rc == KT_OK) rc = kt_mkdir_p(o->outdir, e);
     if (rc == KT_OK) rc = join(scene, o->outdir, "scene.yaml", e) || join(mesh, o->outdir, "eye.msh", e) ||
                           join(json, o->outdir, "plan.json", e) ? e->code : KT_OK;
@@ -325,12 +401,10 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
     a->main_steps = kt_lri_main_steps(&a->p);
     /* The families run on one intact mesh and scene: with more than one, their physics (the
      * prestress, with the band its derivatives) is solved once and lent to every run. */
-    int fam[3] = {a->p.arcs != KT_ARCS_PAIRED, a->p.arcs != KT_ARCS_SINGLE,
-                  a->p.arcs != KT_ARCS_SINGLE && a->ratio < KT_LRIPLAN_SYMMETRIC};
     kt_aug_physics *pre = NULL;
     if (rc == KT_OK && fam[0] + fam[1] + fam[2] > 1 && !(pre = kt_calloc(1, sizeof *pre, e))) rc = e->code;
     for (int k = 0; k < 3 && rc == KT_OK; k++)
-        if (fam[k]) rc = run_family(o, a, s, k, mesh, scene, pre, e);
+        if (fam[k]) rc = run_family(o, a, s, k, centre[k], nstep[k], mesh, scene, pre, e);
     if (pre) kt_aug_physics_free(pre), free(pre);
     const char *report = NULL;
     if (rc == KT_OK) {

@@ -31,9 +31,9 @@ typedef struct kt_incise_stats {
 } kt_incise_stats;
 
 /* Prepare plan p on mesh m; both must outlive the context. A cut without an incision-ready
- * surface snaps nearby nodes onto the cutting surface IN m (see stats.snapped): KT_ERUN, with
- * m left unchanged, when that would invert an element or push its quality below the plan's
- * limit. Progress and notes go to stderr unless quiet. */
+ * surface snaps nearby nodes onto the cutting surface IN m (see stats.snapped), except those
+ * whose move would invert an element or push its quality below the plan's limit (they stay).
+ * Progress and notes go to stderr unless quiet. */
 int kt_incise_begin(kt_incise **c, const kt_plan *p, kt_mesh *m, int quiet, kt_err *e);
 
 /* The next step into s (cleared first): 1, or 0 when the plan is done. */

@@ -107,6 +107,14 @@ int kt_incise_plane_faces(kt_incise *c, const double *point, const double *norma
 int kt_incise_snap_plane(kt_incise *c, kt_phase *ph, const double *point, const double *normal, const char *what,
                          kt_err *e);
 int kt_incise_in_front(const kt_mesh *m, int t);
+/* Leave no tet hanging by one face (its other faces cut, on the boundary or in ph): each such tet
+ * is moved across the cut when ok allows every face it would then cut and that leaves it held by
+ * two faces or more (the cut surface is the plane (point, normal): sides by the centroid, the
+ * faces rebuilt with key 0), else its faces in ph are dropped; ok NULL: drop only (ph's faces
+ * and keys kept). *moved, *dropped: tets. */
+typedef int (*kt_incise_face_ok)(const kt_incise *c, const void *ctx, int slot);
+int kt_incise_unhang(kt_incise *c, kt_phase *ph, const double *point, const double *normal, kt_incise_face_ok ok,
+                     const void *ctx, int *moved, int *dropped, kt_err *e);
 /* incise_tunnel.c: tunnel `index` of the plan as a cut phase. */
 int kt_incise_tunnel_phase(kt_incise *c, const kt_tunnel *t, int index, kt_phase *ph, kt_err *e);
 

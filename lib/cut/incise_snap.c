@@ -1,8 +1,8 @@
 /* incise_snap.c: cuts on meshes without an incision-ready surface. Every tet is put on one
  * side of the cutting surface by the exact side of its centroid; the faces between the two
  * sides (restricted to the cut's extent) are the cut. Their vertices closer to the surface than
- * a fraction of their shortest edge are snapped onto it, unless that would invert an element
- * or push its quality below the plan's limit: then the whole cut is refused and the mesh kept. */
+ * a fraction of their shortest edge are snapped onto it, except those whose move would invert an
+ * element or push its quality below the plan's limit: they stay where they are. */
 #include "incise_int.h"
 
 #include <math.h>
@@ -69,25 +69,42 @@ static void move_mid_edges(kt_incise *c, const double *old, const unsigned char 
     }
 }
 
-/* Every tet touching a moved node keeps a positive volume and an acceptable quality. */
-static int check_snapped(kt_incise *c, const double *old, const unsigned char *moved,
-                         const char *what, kt_err *e)
+/* Is the tet acceptable after the moves: a positive volume, and a quality at least the plan's
+ * limit or at least its own before? */
+static int tet_ok(const kt_incise *c, const double *old, const int *tv)
+{
+    double qn = quality(c->m->xyz, tv), qo = quality(old, tv);
+    return qn > 0 && (qn >= c->plan->snap.min_quality || qn >= qo); /* NaN fails */
+}
+
+/* A node whose move would invert a tet, or push its quality below the plan's limit (and below
+ * its own before), is not snapped: every bad tet's moved vertices go back, until every tet
+ * touching a moved node is acceptable (with none moved, the mesh is the input). The cut then
+ * runs along those nodes as meshed, a little off the surface. *kept counts them. */
+static void check_snapped(kt_incise *c, const double *old, unsigned char *moved, int *kept)
 {
     kt_mesh *m = c->m;
-    double qmin = c->plan->snap.min_quality;
-    for (int t = 0; t < m->ne; t++) {
-        const int *tv = m->tet + (size_t)t * c->nv;
-        if (!moved[tv[0]] && !moved[tv[1]] && !moved[tv[2]] && !moved[tv[3]]) continue;
-        double qn = quality(m->xyz, tv), qo = quality(old, tv);
-        if (!(qn > 0)) /* NaN too */
-            return kt_fail(e, KT_ERUN, "snapping nodes onto the %s would invert tet %d; "
-                           "lower snap.fraction or use a finer mesh", what, t + 1);
-        if (!(qn >= qmin) && !(qn >= qo))
-            return kt_fail(e, KT_ERUN, "snapping nodes onto the %s would lower the quality "
-                           "of tet %d to %.3g (limit snap.min_quality %.3g, was %.3g); lower "
-                           "snap.fraction or use a finer mesh", what, t + 1, qn, qmin, qo);
+    *kept = 0;
+    for (int again = 1; again;) {
+        again = 0;
+        for (int t = 0; t < m->ne; t++) {
+            const int *tv = m->tet + (size_t)t * c->nv;
+            if ((!moved[tv[0]] && !moved[tv[1]] && !moved[tv[2]] && !moved[tv[3]]) || tet_ok(c, old, tv)) continue;
+            for (int k = 0; k < 4; k++)
+                if (moved[tv[k]]) {
+                    memcpy(m->xyz + 3 * (size_t)tv[k], old + 3 * (size_t)tv[k], 3 * sizeof(double));
+                    moved[tv[k]] = 0, (*kept)++, again = 1;
+                }
+        }
+        if (again && m->order == 2) { /* the mid-edge nodes anew from their vertices */
+            for (int t = 0; t < m->ne; t++)
+                for (int k = 4; k < c->nv; k++) {
+                    size_t v = (size_t)m->tet[(size_t)t * c->nv + k];
+                    memcpy(m->xyz + 3 * v, old + 3 * v, 3 * sizeof(double));
+                }
+            move_mid_edges(c, old, moved);
+        }
     }
-    return KT_OK;
 }
 
 int kt_incise_snap(kt_incise *c, const unsigned char *flag, kt_incise_proj proj,
@@ -115,13 +132,13 @@ int kt_incise_snap(kt_incise *c, const unsigned char *flag, kt_incise_proj proj,
     }
     if (nmoved == 0) goto done;
     if (m->order == 2) move_mid_edges(c, old, moved);
-    if (check_snapped(c, old, moved, what, e)) {
-        memcpy(m->xyz, old, (size_t)3 * m->nn * sizeof(double));
-        goto done;
-    }
+    int kept = 0;
+    check_snapped(c, old, moved, &kept);
+    nmoved -= kept;
     c->st.snapped += nmoved;
     c->st.max_snap = fmax(c->st.max_snap, maxd);
-    kt_log(c->quiet, "cutplan: snapped %d nodes onto the %s (at most %.3g mm)\n", nmoved, what, maxd);
+    kt_log(c->quiet, "cutplan: snapped %d nodes onto the %s (at most %.3g mm)", nmoved, what, maxd);
+    kt_log(c->quiet, kept ? "; %d left where they were (snapping them would invert or flatten a tet)\n" : "\n", kept);
 done:
     free(h);
     free(old);
@@ -330,6 +347,98 @@ int kt_incise_snap_plane(kt_incise *c, kt_phase *ph, const double *point, const 
     return snap_faces(c, ph, plane_proj, &surf, what, e);
 }
 
+/* ---- tets left hanging by one face ---- */
+
+/* A cut's faces can wrap three faces of a tet that pokes across the cutting surface (its
+ * centroid on one side, three neighbours on the other: where the surface passes through a
+ * vertex), or two with the boundary. Cut, it hangs by its fourth face: held by the shear of that
+ * tet alone. In the prestressed cornea the lamellae's transverse shear modulus (keratome-scene(5):
+ * about 10 kPa) is of the prestress's order (11-20 kPa in the plane), and the prestressed tangent
+ * of such a tet has negative directions (issue 34: two eigenvalues of -5e-5 N/mm at a tunnel's
+ * floor, docs/every-eye.md). */
+static int closed(const kt_incise *c, const unsigned char *sel, int s)
+{
+    return c->nbr[s] < 0 || c->cut[s] || sel[s];
+}
+
+static int unhang_tet(kt_incise *c, kt_incise_face_ok ok, const void *ctx, unsigned char *sel, int tet, int *moved,
+                      int *dropped)
+{
+    int nsel = 0, nclosed = 0, nok = 0, open[4];
+    for (int j = 0; j < 4; j++) {
+        int s = 4 * tet + j;
+        open[j] = !closed(c, sel, s);
+        nsel += sel[s], nclosed += !open[j];
+        nok += open[j] && ok && ok(c, ctx, s);
+    }
+    if (nsel == 0 || nclosed < 3) return 0;
+    /* moved across: its open faces cut, its cut ones open; then held by nsel faces */
+    int flip = nok == 4 - nclosed && nclosed - nsel + (4 - nclosed) <= 2;
+    for (int j = 0; j < 4; j++) {
+        int s = 4 * tet + j;
+        if (sel[s]) sel[s] = sel[c->nbr[s]] = 0;
+        else if (flip && open[j]) sel[s] = sel[c->nbr[s]] = 1;
+    }
+    if (flip) (*moved)++;
+    else (*dropped)++;
+    return flip;
+}
+
+/* The phase's faces anew from sel: without ok, the faces kept (their keys too); with it, every
+ * selected face from its tet on the minus side (key 0: the caller sets the keys). */
+static int refill(kt_incise *c, kt_phase *ph, const unsigned char *sel, const signed char *minus, int added, kt_err *e)
+{
+    int n = 0;
+    if (!added) {
+        for (int i = 0; i < ph->nface; i++)
+            if (sel[ph->face[i].slot]) ph->face[n++] = ph->face[i];
+        ph->nface = n;
+        return KT_OK;
+    }
+    int cap = 0;
+    for (int s = 0; s < 4 * c->m->ne; s++) cap += sel[s] && s < c->nbr[s];
+    kt_cutface *f = kt_calloc((size_t)cap + 1, sizeof *f, e);
+    if (!f) return e->code;
+    for (int s = 0; s < 4 * c->m->ne; s++) {
+        if (!sel[s] || s > c->nbr[s]) continue;
+        f[n].slot = minus[s / 4] ? s : c->nbr[s], f[n].side = -1, f[n++].key = 0;
+    }
+    free(ph->face);
+    ph->face = f, ph->nface = n;
+    return KT_OK;
+}
+
+int kt_incise_unhang(kt_incise *c, kt_phase *ph, const double *point, const double *normal, kt_incise_face_ok ok,
+                     const void *ctx, int *moved, int *dropped, kt_err *e)
+{
+    int ne = c->m->ne;
+    unsigned char *sel = kt_calloc((size_t)4 * ne, 1, e);
+    signed char *minus = kt_calloc((size_t)ne, 1, e); /* 1: the tet keeps the original nodes */
+    if (e->code) goto done;
+    for (int k = 0; ok && k < ne; k++) { /* the side of its centroid; the faces' own sides below */
+        const double *x[4];
+        for (int v = 0; v < 4; v++) x[v] = c->m->xyz + 3 * (size_t)c->m->tet[(size_t)k * c->nv + v];
+        minus[k] = kt_pred_plane_side(point, normal, x, 4) <= 0;
+    }
+    for (int i = 0; i < ph->nface; i++) {
+        int s = ph->face[i].slot;
+        sel[s] = sel[c->nbr[s]] = 1;
+        minus[s / 4] = 1, minus[c->nbr[s] / 4] = 0;
+    }
+    for (int pass = 0, again = 1; again && pass < 100; pass++) {
+        again = 0;
+        for (int s = 0; s < 4 * ne; s++) {
+            int before = *moved + *dropped;
+            if (sel[s] && unhang_tet(c, ok, ctx, sel, s / 4, moved, dropped)) minus[s / 4] = !minus[s / 4];
+            again |= *moved + *dropped != before;
+        }
+    }
+    refill(c, ph, sel, minus, *moved > 0, e);
+done:
+    free(sel), free(minus);
+    return e->code;
+}
+
 /* ---- an arc snapped onto a cylinder (an eye scene without a ring at that diameter) ---- */
 
 int kt_incise_in_front(const kt_mesh *m, int t)
@@ -407,6 +516,9 @@ int kt_incise_cylinder_phase(kt_incise *c, const kt_incision *inc, int index, kt
                 "mesh within the arc", at, inc->diameter);
         goto done;
     }
+    int moved = 0, hung = 0;
+    if (kt_incise_unhang(c, ph, NULL, NULL, NULL, NULL, &moved, &hung, e)) goto done;
+    if (hung) kt_log(c->quiet, "cutplan: %s: %d tets that would hang by one face left uncut\n", ph->name, hung);
     if (snap_faces(c, ph, cylinder_proj, &surf, "incision cylinder", e)) goto done;
     kt_incise_sort_faces(ph);
 done:

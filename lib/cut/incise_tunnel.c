@@ -83,6 +83,14 @@ static int drop_slivers(kt_incise *c, kt_phase *ph, int *dropped, kt_err *e)
     return e->code;
 }
 
+/* May the face at slot be cut by the tunnel (both tets in the cornea or limbus, the face within
+ * the blade's rectangle)? For kt_incise_unhang. */
+static int tunnel_face_ok(const kt_incise *c, const void *ctx, int slot)
+{
+    return kt_incise_in_front(c->m, c->nbr[slot] / 4) && kt_incise_in_front(c->m, slot / 4) &&
+           face_key(c, ctx, slot, 1) >= 0;
+}
+
 int kt_incise_tunnel_phase(kt_incise *c, const kt_tunnel *t, int index, kt_phase *ph, kt_err *e)
 {
     ph->kind = KT_PHASE_CUT;
@@ -98,8 +106,9 @@ int kt_incise_tunnel_phase(kt_incise *c, const kt_tunnel *t, int index, kt_phase
         ph->face[n++] = ph->face[i];
     }
     ph->nface = n;
-    int dropped = 0;
-    if (drop_slivers(c, ph, &dropped, e)) return e->code;
+    int dropped = 0, moved = 0, hung = 0;
+    if (drop_slivers(c, ph, &dropped, e) || kt_incise_unhang(c, ph, t->entry, t->normal, tunnel_face_ok, t, &moved, &hung, e) || drop_slivers(c, ph, &dropped, e))
+        return e->code;
     n = ph->nface;
     if (n == 0) {
         char at[1100];
@@ -115,6 +124,7 @@ int kt_incise_tunnel_phase(kt_incise *c, const kt_tunnel *t, int index, kt_phase
     ph->dps = ph->total / t->steps;
     kt_incise_sort_faces(ph);
     kt_log(c->quiet, "cutplan: tunnel %d: %d faces, %.2f mm of blade advance in %d steps (%d faces left uncut "
-           "where the plane grazes a surface)\n", index + 1, n, ph->total, t->steps, dropped);
+           "where the plane grazes a surface; %d tets that would hang by one face moved across the cut, %d "
+           "left uncut)\n", index + 1, n, ph->total, t->steps, dropped, moved, hung);
     return KT_OK;
 }

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "chol.h"
 #include "eye.h"
 #include "sens.h"
 
@@ -193,7 +194,7 @@ static int finish(const kt_scene *s, const kt_mesh *m, kt_fem_problem *fp, kt_ph
                   kt_fem_sens *S, kt_err *e)
 {
     cholmod_common c;
-    cholmod_start(&c);
+    kt_chol_start(&c);
     build(s, m, fp, ph, &c, S, e);
     cholmod_finish(&c);
     if (e->code) {

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "chol.h"
 #include "fem_int.h"
 
 #define MMHG_MPA 133.322387415e-6 /* MPa per mmHg */
@@ -391,7 +392,7 @@ int kt_fem_sens_fresh(const kt_fem_sens *S, const kt_mesh *m, const kt_materials
     double *zero = kt_calloc(n, sizeof(double), e), *u0 = kt_calloc(n, sizeof(double), e);
     if (!e->code) {
         cholmod_common c;
-        cholmod_start(&c);
+        kt_chol_start(&c);
         fresh_ctx P = {S, m, mats, u};
         kt_fem_solve_more(m, mats, fixed, NULL, zero, u0, S->nd, fresh_rhs, &P, du, NULL, &c, e);
         cholmod_finish(&c);

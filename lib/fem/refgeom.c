@@ -56,7 +56,7 @@ static int problem_init(problem *p, const kt_scene *s, const kt_mesh *m, kt_err 
     p->s = s;
     p->m = m;
     p->n = 3 * (size_t)m->nn;
-    cholmod_start(&p->c);
+    kt_chol_start(&p->c);
     p->lambda = 1;
     p->g = kt_calloc(p->n, sizeof(double), e);
     if (!p->g || kt_fem_bind(s, m, &p->fem, e)) return e->code;

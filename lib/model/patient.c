@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "clearance.h"
 #include "eye.h"
 #include "scene_int.h" /* the eye defaults of keratome-scene(5) */
 #include "yml.h"
@@ -14,15 +15,16 @@
 #define MMHG 133.322387415e-6 /* MPa per mmHg (conventional millimetre of mercury) */
 
 static const char *const TOP_KEYS[] = {"name", "description", "eye", "age", "iop", "cornea",
-                                       "main_incision", "target", "constraints", NULL};
+                                       "main_incision", "side_port", "target", "constraints", NULL};
 static const char *const CORNEA_KEYS[] = {"keratometry", "pentacam", "posterior", "central_thickness",
                                           "thickness_at_zone", "white_to_white", NULL};
 static const char *const K_KEYS[] = {"k_steep", "k_flat", "steep_axis", NULL};
 static const char *const PENTA_KEYS[] = {"front", "back", "pachymetry", NULL};
 static const char *const MAIN_KEYS[] = {"meridian", "width", "kind", "sia", NULL};
 static const char *const SIA_KEYS[] = {"magnitude", "axis", NULL};
+static const char *const SIDE_KEYS[] = {"meridian", "width", NULL};
 static const char *const TARGET_KEYS[] = {"astigmatism", "residual", NULL};
-static const char *const CONS_KEYS[] = {"incisions", "max_arc", "zone", "depth", NULL};
+static const char *const CONS_KEYS[] = {"incisions", "max_arc", "zone", "depth", "clearance", NULL};
 static const char *const EYES[] = {"OD", "OS", NULL};
 static const char *const KINDS[] = {"clear_corneal", "limbal", NULL};
 static const char *const TARGETS[] = {"total_corneal", "keratometric", NULL};
@@ -87,7 +89,8 @@ static void defaults(kt_patient *p)
     p->main_simulate = 1;
     p->target_residual = 0.5; /* Villegas et al. 2014 */
     p->max_arc = 90;
-    p->zone = 10.5;           /* Nichamin 2006 */
+    p->zone = NAN;            /* 10.5 mm (Nichamin 2006), inside the corneal edge: check() */
+    p->clearance = KT_CLEARANCE_DEG;
     p->depth_fraction = KT_PATIENT_DEPTH_MAX;
 }
 
@@ -174,20 +177,37 @@ static int parse_cornea(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *
     return KT_OK;
 }
 
+/* A site: a name (temporal, nasal, ...) or an angle in [0, 360) deg. */
+static int site_field(kt_yml *y, const yaml_node_t *m, const char *what, int eye, double *v, kt_err *e)
+{
+    char text[64], expl[160];
+    if (kt_yml_string(y, m, what, text, sizeof text, e)) return e->code;
+    *v = kt_patient_site(eye, text);
+    snprintf(expl, sizeof expl, "%s (a site: temporal, nasal, superior, inferior, superotemporal, ...; or an angle)", what);
+    if (isnan(*v) && kt_yml_quantity(y, m, expl, KT_UNIT_ANGLE, range(0, 360, 0, 1), v, e)) return e->code;
+    return KT_OK;
+}
+
+/* side_port {meridian, width}: a paracentesis, for the arcs' clearance only (not cut). */
+static int parse_side(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *e)
+{
+    const char *w = "side_port";
+    yaml_node_t *m;
+    if (kt_yml_check_map(y, n, w, SIDE_KEYS, e) || !(m = kt_yml_require(y, n, "meridian", w, e)) ||
+        !kt_yml_require(y, n, "width", w, e) || site_field(y, m, "side_port.meridian", p->eye, &p->side_meridian, e) ||
+        kt_yml_key_quantity(y, n, w, "width", KT_UNIT_LENGTH, range(0.3, 3, 0, 0), &p->side_width, e))
+        return e->code;
+    p->side_present = 1;
+    return KT_OK;
+}
+
 static int parse_main(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *e)
 {
     const char *w = "main_incision";
     if (kt_yml_check_map(y, n, w, MAIN_KEYS, e)) return e->code;
     yaml_node_t *m = kt_yml_require(y, n, "meridian", w, e);
     if (!m || !kt_yml_require(y, n, "width", w, e)) return e->code;
-    char text[64];
-    if (kt_yml_string(y, m, "main_incision.meridian", text, sizeof text, e)) return e->code;
-    p->main_meridian = kt_patient_site(p->eye, text);
-    if (isnan(p->main_meridian) &&
-        kt_yml_quantity(y, m, "main_incision.meridian (a site: temporal, nasal, superior, inferior, "
-                              "superotemporal, ...; or an angle)",
-                        KT_UNIT_ANGLE, range(0, 360, 0, 1), &p->main_meridian, e))
-        return e->code;
+    if (site_field(y, m, "main_incision.meridian", p->eye, &p->main_meridian, e)) return e->code;
     if (kt_yml_key_quantity(y, n, w, "width", KT_UNIT_LENGTH, range(1, 6, 0, 0), &p->main_width, e) ||
         kt_yml_key_choice(y, n, w, "kind", KINDS, &p->main_kind, e))
         return e->code;
@@ -244,6 +264,7 @@ static int parse_rest(kt_yml *y, const yaml_node_t *root, kt_patient *p, kt_err 
 {
     yaml_node_t *n;
     if ((n = kt_yml_get(y, root, "main_incision")) && parse_main(y, n, p, e)) return e->code;
+    if ((n = kt_yml_get(y, root, "side_port")) && parse_side(y, n, p, e)) return e->code;
     if ((n = kt_yml_get(y, root, "target"))) {
         if (kt_yml_check_map(y, n, "target", TARGET_KEYS, e) ||
             kt_yml_key_choice(y, n, "target", "astigmatism", TARGETS, &p->target_kind, e) ||
@@ -254,7 +275,8 @@ static int parse_rest(kt_yml *y, const yaml_node_t *root, kt_patient *p, kt_err 
         const char *w = "constraints";
         if (kt_yml_check_map(y, n, w, CONS_KEYS, e) || kt_yml_key_choice(y, n, w, "incisions", ARCS, &p->arcs, e) ||
             kt_yml_key_quantity(y, n, w, "max_arc", KT_UNIT_ANGLE, range(10, 120, 0, 0), &p->max_arc, e) ||
-            kt_yml_key_quantity(y, n, w, "zone", KT_UNIT_LENGTH, KT_YML_POSITIVE, &p->zone, e))
+            kt_yml_key_quantity(y, n, w, "zone", KT_UNIT_LENGTH, KT_YML_POSITIVE, &p->zone, e) ||
+            kt_yml_key_quantity(y, n, w, "clearance", KT_UNIT_ANGLE, range(0, 90, 0, 0), &p->clearance, e))
             return e->code;
         yaml_node_t *d = kt_yml_get(y, n, "depth");
         if (d && parse_depth(y, d, p, e)) return e->code;
@@ -281,6 +303,8 @@ static int check(kt_yml *y, const yaml_node_t *root, kt_patient *p, kt_err *e)
     yaml_node_t *cons = kt_yml_get(y, root, "constraints"), *cornea = kt_yml_get(y, root, "cornea");
     yaml_node_t *zn = kt_yml_get(y, cons, "zone");
     double clear = p->wtw - PATIENT_LIMBUS;
+    if (isnan(p->zone)) p->zone = fmin(KT_PATIENT_ZONE, clear); /* not given: the default, or the
+                                                                    widest the cornea allows */
     if (p->zone <= PATIENT_OPTICAL_ZONE || p->zone > clear)
         return kt_yml_fail(y, zn ? zn : root, e,
                            "constraints.zone: expected a diameter outside the optical zone (> %g mm) and inside "

@@ -33,6 +33,8 @@ enum { KT_ARCS_EITHER = 0, KT_ARCS_SINGLE, KT_ARCS_PAIRED };
 #define KT_PATIENT_POST_AXIS 90.0     /* deg, posterior steep meridian vertical, Koch et al. 2012 */
 #define KT_PATIENT_N_POST 40.0        /* D mm: 1000 (1.376 - 1.336), posterior surface power */
 #define KT_PATIENT_DEPTH_MAX 0.9      /* deepest blade setting, fraction of the pachymetry */
+#define KT_PATIENT_ZONE 10.5          /* mm, the incision zone, peripheral clear cornea (Nichamin
+                                         2006); at most white_to_white - 1 mm when not given */
 
 /* A toric surface at its apex: radii of the steep and flat meridians, the steep meridian,
  * the conic constant Q (NAN: not measured), and where the values came from. */
@@ -61,11 +63,16 @@ typedef struct kt_patient {
     int main_kind;              /* KT_MAIN_* */
     int main_simulate;          /* 1: cut in the model; 0: the surgeon's SIA vector below */
     double main_sia, main_sia_axis; /* D, deg */
+    int side_present;           /* a side port (paracentesis) is given */
+    double side_meridian;       /* its site, deg TABO, 0 <= m < 360 */
+    double side_width;          /* mm */
     int target_kind;            /* KT_TARGET_* */
     double target_residual;     /* D */
     int arcs;                   /* KT_ARCS_* */
     double max_arc;             /* deg */
     double zone;                /* incision zone diameter, mm */
+    double clearance;           /* deg at the zone: the least gap between an arc and a wound
+                                   (KT_CLEARANCE_DEG, clearance.h) */
     double depth_fraction;      /* fraction of the pachymetry at the zone, or 0 ... */
     double depth;               /* ... the blade depth, mm */
 } kt_patient;

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "aug_impl.h"
+#include "chol.h"
 
 void kt_aug_opts_default(kt_aug_opts *o)
 {
@@ -184,7 +185,7 @@ int kt_aug_create(kt_aug **out, const kt_aug_problem *p, const kt_aug_opts *o, k
         return kt_fail(e, KT_EINPUT, "--factor simplicial: the augmented method factors the "
                        "intact stiffness supernodally (its W columns are kept by supernode)");
     }
-    cholmod_start(&A->c);
+    kt_chol_start(&A->c);
     A->c_started = 1;
     row_start(A);
     double t0 = kt_now();

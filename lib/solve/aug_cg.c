@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "aug_impl.h"
+#include "chol.h"
 #include "krylov.h"
 
 double kt_aug_ms(double seconds) { return 1e3 * seconds; }
@@ -121,7 +122,7 @@ int kt_aug_fresh_solve(kt_aug *A, int use_opts, double *u, double *t, double *re
 {
     if (use_opts) return fresh_with(A, &A->c, 1, u, t, relres, e);
     cholmod_common c; /* its own: METIS, postordered, supernodal (what a user would run) */
-    cholmod_start(&c);
+    kt_chol_start(&c);
     fresh_with(A, &c, 0, u, t, relres, e);
     cholmod_finish(&c);
     return e->code;

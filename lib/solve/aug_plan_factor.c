@@ -423,7 +423,7 @@ int kt_plan_factor_build_with(kt_plan_factor *F, const kt_edits_plan *p, const k
                               int factor, int panel, double max_ratio, kt_err *e)
 {
     memset(F, 0, sizeof *F);
-    cholmod_start(&F->c);
+    kt_chol_start(&F->c);
     F->started = 1;
     if (positions(F, p, e) || assemble(F, p, final, mats, e) || frobenius(F, p->nsteps, e))
         return e->code;

@@ -4,6 +4,7 @@
  * over interleaved blocks (row i's nd values together), so the factor and the pattern are
  * read once per step for all quantities. */
 #include "aug_plan_sens.h"
+#include "chol.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -203,7 +204,7 @@ int kt_plan_sens_init(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan
     D->S = S;
     D->nd = S->nd;
     D->nvar = 3 * p->nn;
-    cholmod_start(&D->c);
+    kt_chol_start(&D->c);
     D->started = 1;
     if (D->nd > KT_FEM_MULTI_MAX)
         return kt_fail(e, KT_ERUN, "%d derivative quantities (at most %d)", D->nd,

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "apply.h"
+#include "chol.h"
 
 void kt_plan_state_free(kt_plan_state *s)
 {
@@ -106,7 +107,7 @@ int kt_plan_state_init(kt_plan_state *s, const kt_edits_plan *p, const kt_plan_f
                        const kt_aug_problem *prob, kt_err *e)
 {
     memset(s, 0, sizeof *s);
-    cholmod_start(&s->c);
+    kt_chol_start(&s->c);
     s->c_started = 1;
     s->rwork = kt_calloc((size_t)F->maxrow, sizeof(double), e);
     s->yf = kt_calloc((size_t)F->nfree + 1, sizeof(double), e);
@@ -394,7 +395,7 @@ int kt_plan_fresh(const kt_plan_state *s, const kt_edits_plan *p, const kt_aug_p
 {
     double t0 = kt_now();
     cholmod_common c;
-    cholmod_start(&c);
+    kt_chol_start(&c);
     c.nmethods = 1; /* what a user would run instead: METIS, postordered */
     c.method[0].ordering = CHOLMOD_METIS;
     c.postorder = 1;

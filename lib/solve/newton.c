@@ -196,7 +196,7 @@ int kt_newton_solve(const kt_newton_problem *p, const kt_newton_opts *o, double 
                        ">= 1, > 0)", o->increments, o->max_iter, o->rtol);
     double t0 = kt_now();
     cholmod_common c;
-    cholmod_start(&c);
+    kt_chol_start(&c);
     work w = {p, 3 * (size_t)p->m->nn, NULL, NULL, NULL, NULL, NULL, NULL, &c, NULL};
     w.r = kt_calloc(w.n, sizeof(double), e);
     w.fint = kt_calloc(w.n, sizeof(double), e);

@@ -2,12 +2,29 @@
 #include "chol.h"
 
 #include <metis.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "order.h"
 
 static const char COMPONENT[3] = {'x', 'y', 'z'};
+
+/* CHOLMOD's errors (status < 0) and warnings on stderr, one line each; the not-positive-definite
+ * warning is the caller's to report. */
+static void to_stderr(int status, const char *file, int line, const char *message)
+{
+    if (status == CHOLMOD_NOT_POSDEF) return;
+    fprintf(stderr, "CHOLMOD %s: %s (%s:%d)\n", status < 0 ? "error" : "warning", message ? message : "",
+            file ? file : "?", line);
+}
+
+void kt_chol_start(cholmod_common *c)
+{
+    cholmod_start(c);
+    c->print = 0;
+    c->error_handler = to_stderr;
+}
 
 int kt_chol_factor(cholmod_sparse *A, cholmod_factor *L, cholmod_common *c, const char *what,
                    kt_err *e)

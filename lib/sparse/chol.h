@@ -8,6 +8,13 @@
 
 #include "util.h"
 
+/* cholmod_start(c), then CHOLMOD kept off stdout: it prints nothing itself (c->print = 0) and
+ * its errors and warnings go to stderr as one line "CHOLMOD error|warning: message (file:line)"
+ * through c->error_handler, except the not-positive-definite warning, which every caller
+ * reports in its own words (kt_chol_factor names the node). Every CHOLMOD workspace of keratome
+ * starts here: a tool's stdout holds only its answer. */
+void kt_chol_start(cholmod_common *c);
+
 /* Factor A numerically into L (analysed before, with A's pattern). KT_ERUN when CHOLMOD fails,
  * and when a pivot is not positive: then the message, prefixed by 'what' (e.g. "step 3"),
  * names the node (1-based) and component of the DOF, and the pivot's position. */

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "chol.h"
 #include "topology.h"
 
 /* Node adjacency (no self loops, no repeats) in compressed form: neighbours of v are
@@ -371,7 +372,7 @@ int kt_order_analyze_sets(const kt_mesh *m, const int *perm, const unsigned char
     int *parent = kt_calloc((size_t)n, sizeof(int), e), *depth = kt_calloc((size_t)n, sizeof(int), e);
     int *mark = kt_calloc((size_t)n, sizeof(int), e);
     cholmod_common c;
-    cholmod_start(&c);
+    kt_chol_start(&c);
     cholmod_sparse *A = NULL;
     if (e->code) goto done;
     if (!perm) {

@@ -86,6 +86,16 @@ static void test_ok(void)
     CHECK_NEAR(kt_patient_site(KT_EYE_OD, "superotemporal"), 135, 0, "OD superotemporal");
     CHECK_NEAR(kt_patient_site(KT_EYE_OS, "superotemporal"), 45, 0, "OS superotemporal");
     CHECK(isnan(kt_patient_site(KT_EYE_OD, "north")), "unknown site");
+    CHECK(!p.side_present && p.clearance == 15, "no side port, clearance 15 deg by default");
+
+    /* A side port (a named site or an angle) and the clearance. */
+    const char *side = "eye: OS\nage: 70\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n"
+                       "main_incision: {meridian: temporal, width: 2.4 mm}\n"
+                       "side_port: {meridian: superonasal, width: 1.1 mm}\nconstraints: {clearance: 20 deg}\n";
+    rc = load_text(side, &p, &e);
+    CHECK(rc == KT_OK, "side port: %s", e.msg);
+    CHECK(p.side_present && p.side_meridian == 135 && fabs(p.side_width - 1.1) < 1e-12, "side port OS superonasal 135 deg");
+    CHECK_NEAR(p.clearance, 20, 1e-12, "constraints.clearance");
 }
 
 /* Each bad patient: exit code 2 and the message's position and expectation. */
@@ -117,6 +127,15 @@ static void test_bad(void)
         {"eye: OD\nage: 68\ncornea: {}\n", "p.yaml:3:9: cornea: expected exactly one of"},
         {"eye: OD\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n",
          "p.yaml:1:1: patient: expected key 'age'"},
+        {"eye: OD\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n"
+         "side_port: {meridian: 30 deg, width: 5 mm}\n",
+         "p.yaml:4:38: side_port.width: expected a length in [0.3, 3] mm"},
+        {"eye: OD\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n"
+         "side_port: {width: 1 mm}\n",
+         "p.yaml:4:12: side_port: expected key 'meridian'"},
+        {"eye: OD\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n"
+         "constraints: {clearance: 100 deg}\n",
+         "p.yaml:4:26: constraints.clearance"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         kt_patient p;
