@@ -40,7 +40,7 @@ static const char *const STATES[] = {"immediate", "healed", NULL};
 
 /* Ranges: k up to 1e6 MPa/mm (the uncut eye's limit is reached long before: docs/physics.md);
  * age_rate within +-0.2 /y (exp(+-0.2 x 70 y) spans 1e-6..1e6); ages 0-130 y; months 0 to 50
- * years; heal_time from a day to 50 years. */
+ * years; heal_time above 0, up to 50 years. */
 int kt_scene_parse_wound(kt_yml *y, const yaml_node_t *n, kt_wound_scene *w, kt_err *e)
 {
     const char *what = "wound";
@@ -51,7 +51,7 @@ int kt_scene_parse_wound(kt_yml *y, const yaml_node_t *n, kt_wound_scene *w, kt_
         kt_yml_key_quantity(y, n, what, "age_rate", KT_UNIT_RATE, kt_scene_range(-0.2, 0.2, 0, 0), &w->age_rate, e) ||
         kt_yml_key_number(y, n, what, "age", kt_scene_range(0, 130, 0, 0), &w->age, e) ||
         kt_yml_key_quantity(y, n, what, "months", KT_UNIT_TIME, kt_scene_range(0, 600, 0, 0), &w->months, e) ||
-        kt_yml_key_quantity(y, n, what, "heal_time", KT_UNIT_TIME, kt_scene_range(12 / 365.25, 600, 0, 0),
+        kt_yml_key_quantity(y, n, what, "heal_time", KT_UNIT_TIME, kt_scene_range(0, 600, 1, 0),
                             &w->heal_time, e))
         return e->code;
     return KT_OK;
