@@ -2,8 +2,8 @@
 # heal-table.sh BUILD OUT [K...]: the healed wound's table (docs/physics.md, "Healing"): the
 # default eye (plans/eye.yaml) meshed once, then the paired and single 60-degree arcs
 # (plans/lri-{paired,single}-60.yaml, one step each, scripts/lri-table.sh) solved with the wound
-# immediate and healed at each bridge stiffness K (MPa/mm; default 0.05 0.15 0.5 1.5 5, and the
-# default eye's k where it differs). Prints and writes OUT/heal.tsv:
+# immediate and healed at each bridge stiffness K (MPa/mm; default 0.026 0.05 0.15 0.26 0.5 1.5
+# 2.6 5: the scene default 0.26 and a decade either side). Prints and writes OUT/heal.tsv:
 #   state k_MPa_per_mm paired_sia_D single_sia_D paired_coupling single_coupling paired_over_single
 # heal-table.sh BUILD OUT --age AGE... [--k K]: the age rule of both the moduli and the bridge:
 # for each AGE the eye scene of lri-plan's patient rule (the cornea's moduli times
@@ -31,7 +31,11 @@ row() {
     shift
     mkdir -p "$OUT/$name"
     ln -sf "$OUT/eye.msh" "$OUT/$name/eye.msh"
+    # a variant already solved with this very scene is kept (rerun the table to add ks)
+    if [ -f "$OUT/$name/table.tsv" ] && [ "$(wc -l < "$OUT/$name/table.tsv")" -eq $(($# + 1)) ] &&
+        cmp -s "$OUT/$name.yaml" "$OUT/$name/scene.used"; then return; fi
     bash "$here/scripts/lri-table.sh" "$B" "$OUT/$name.yaml" "$OUT/$name" "$@" > /dev/null
+    cp "$OUT/$name.yaml" "$OUT/$name/scene.used"
 }
 col() { awk -F'\t' -v p="$2" -v c="$3" 'NR == 1 { for (i = 1; i <= NF; i++) h[$i] = i; next } $1 == p { print $h[c] }' "$OUT/$1/table.tsv"; }
 if [ "${1:-}" = --age ]; then
@@ -64,7 +68,7 @@ if [ "${1:-}" = --age ]; then
     exit 0
 fi
 ks=("$@")
-[ ${#ks[@]} -gt 0 ] || ks=(0.05 0.15 0.5 1.5 5)
+[ ${#ks[@]} -gt 0 ] || ks=(0.026 0.05 0.15 0.26 0.5 1.5 2.6 5)
 printf 'state\tk_MPa_per_mm\tpaired_sia_D\tsingle_sia_D\tpaired_coupling\tsingle_coupling\tpaired_over_single\n' | tee "$OUT/heal.tsv"
 for k in immediate "${ks[@]}"; do
     if [ "$k" = immediate ]; then scene imm; name=imm; st=immediate; kv=0

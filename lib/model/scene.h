@@ -110,12 +110,13 @@ typedef struct kt_wound_scene {
 } kt_wound_scene;
 
 /* Provisional defaults, to be identified by plans/studies/calibrate (docs/physics.md,
- * "Healing"): k_ref chosen so that the default eye's paired 60 deg arcs land near the healed
- * outcome of Wang, Misra, Koch 2003 (1.18 D at about 4 months, 69 y); age_rate the keratocyte
+ * "Healing"): k_ref 0.26 MPa/mm, interpolated in the table of scripts/heal-table.sh (k 0.05,
+ * 0.15, 0.5 MPa/mm: paired 60 2.151, 1.547, 0.786 D) to the default eye's paired 60 deg arcs at
+ * the healed outcome of Wang, Misra, Koch 2003 (1.18 D at about 4 months); age_rate the keratocyte
  * density decline with age (0.3 %/y, Moller-Pedersen 1997) taken as the scar's; heal_time the
  * scar's stiffening (Gasset and Dohlman 1968: no measurable strength for 12 days, a slow gain
  * over 100 days). */
-#define KT_WOUND_K_DEFAULT 0.5
+#define KT_WOUND_K_DEFAULT 0.26
 #define KT_WOUND_AGE_RATE_DEFAULT 0.003
 #define KT_WOUND_HEAL_TIME_DEFAULT 1.5
 #define KT_WOUND_AGE_PIVOT 60.0
