@@ -442,6 +442,7 @@ static int write_uncertainty(run *r, const kt_aug_run_opts *o, kt_err *e)
     if (kt_out_open(&out, path, e)) return e->code;
     fputs("param\tunit\tvalue\tsd\tmethod\tsource\n", out.f);
     for (int q = 0; q < KT_UQ_N; q++) {
+        if (q == KT_UQ_HEAL && !isfinite(r->S->value[q])) continue; /* no bridge stiffness */
         fprintf(out.f, "%s\t%s\t", kt_uq_name(q), kt_uq_unit(q));
         tsv_num(out.f, r->S->value[q], "%.6g");
         fputc('\t', out.f);

@@ -61,7 +61,11 @@ void kt_fem_sens_plan(const kt_scene *s, const kt_fem_problem *fp, kt_fem_sens *
     }
     S->value[KT_UQ_AGE_SLOPE] = KT_UQ_AGE_SLOPE_VALUE;
     if (isfinite(u->age) && cornea) S->method[KT_UQ_AGE_SLOPE] = KT_SENS_DERIVATIVE;
-    if (fp->wound && fp->wound->k > 0) { /* heal = ln(k / (1 MPa/mm)) */
+    /* heal = ln(k / (1 MPa/mm)): a derivative for a healed wound; for an immediate one the
+     * value a healed state would have, not applicable */
+    double kh = kt_scene_wound_k_healed(s);
+    if (kh > 0) S->value[KT_UQ_HEAL] = log(kh);
+    if (fp->wound && fp->wound->k > 0) {
         S->value[KT_UQ_HEAL] = log(fp->wound->k);
         S->method[KT_UQ_HEAL] = KT_SENS_DERIVATIVE;
     }

@@ -151,6 +151,8 @@ typedef struct kt_scene {
 
 /* The bridge stiffness per area the scene's wound has, MPa/mm: 0 for an immediate wound. */
 double kt_scene_wound_k(const kt_scene *s);
+/* The same as if the state were healed (what heal = ln k would be; kt_fem_sens_plan). */
+double kt_scene_wound_k_healed(const kt_scene *s);
 /* The age it was taken at, y (wound.age, else the age_slope age, else the pivot). */
 double kt_scene_wound_age(const kt_scene *s);
 

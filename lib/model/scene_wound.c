@@ -27,8 +27,12 @@ double kt_scene_wound_age(const kt_scene *s)
 
 double kt_scene_wound_k(const kt_scene *s)
 {
+    return s->wound.state == KT_WOUND_HEALED ? kt_scene_wound_k_healed(s) : 0;
+}
+
+double kt_scene_wound_k_healed(const kt_scene *s)
+{
     const kt_wound_scene *w = &s->wound;
-    if (w->state != KT_WOUND_HEALED) return 0;
     double k = w->bridge_stiffness * exp(-w->age_rate * (kt_scene_wound_age(s) - KT_WOUND_AGE_PIVOT));
     if (isfinite(w->months)) k *= -expm1(-w->months / w->heal_time);
     return k;
