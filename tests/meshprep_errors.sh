@@ -96,6 +96,25 @@ scene nofile $'model: surface\nsurface:\n  file: missing.off\n  facet_size: 1 mm
 expect_fail "missing model file" "nofile.yaml:3:9: surface.file: expected an existing, readable file" \
     "$tmp/nofile.yaml" -o "$tmp/out/x.msh"
 
+# the wound: section (keratome-scene(5), WOUND)
+wound() { # wound NAME PATTERN TEXT: a scene with that wound section must be refused
+    scene "$1" "model: eye"$'\n'"$3"
+    expect_fail "wound $1" "$1.yaml:$2" "$tmp/$1.yaml" -o "$tmp/out/x.msh"
+}
+wound wstate "3:10: wound.state: expected one of: immediate, healed, got 'scarred'" $'wound:\n  state: scarred\n'
+wound wunitless "4:21: wound.bridge_stiffness: expected a stiffness per area with a unit \\(MPa/mm" \
+    $'wound:\n  state: healed\n  bridge_stiffness: 0.5\n'
+wound wdim "3:21: wound.bridge_stiffness: expected a stiffness per area .* got a pressure in '0.5 MPa'" \
+    $'wound:\n  bridge_stiffness: 0.5 MPa\n'
+wound wneg "3:21: wound.bridge_stiffness: expected a stiffness per area in \\[0, 1e\\+06\\] MPa/mm, got '-1 MPa/mm'" \
+    $'wound:\n  bridge_stiffness: -1 MPa/mm\n'
+wound wrate "3:13: wound.age_rate: expected a rate per year in \\[-0.2, 0.2\\] /y, got '1 /y'" $'wound:\n  age_rate: 1 /y\n'
+wound wmonths "3:11: wound.months: expected a time \\(months, d, wk, y\\), got a length in '4 mm'" $'wound:\n  months: 4 mm\n'
+wound wkey "3:3: wound: unknown key 'stiffness'" $'wound:\n  stiffness: 1 MPa/mm\n'
+wound wtau "3:14: wound.heal_time: expected a time in \\(0, 600\\] months, got '0 months'" $'wound:\n  heal_time: 0 months\n'
+wound wage "3:8: wound.age: expected a number in \\[0, 130\\], got '200'" $'wound:\n  age: 200\n'
+wound wscalar "2:8: wound: expected a mapping" $'wound: healed\n'
+
 expect_fail "missing scene file" "no-such-scene.yaml: cannot open" "$tmp/no-such-scene.yaml" -o "$tmp/out/x.msh"
 
 expect_fail "nonexistent output folder" "$tmp/out/none/x.msh: cannot create output file" \

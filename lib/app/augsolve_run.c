@@ -25,6 +25,7 @@
 #include "scene.h"
 #include "sens.h"
 #include "vtk.h"
+#include "wound.h"
 
 /* Everything the run holds, freed in one place. */
 typedef struct run {
@@ -287,6 +288,18 @@ static int solve_physics(run *r, const kt_aug_run_opts *o, kt_err *e)
     return KT_OK;
 }
 
+/* The healed wound's bridge on the step's cut mesh as a cell field (written for a healed wound
+ * only): its k (MPa/mm) on every tet with a bridged (cut) face, 0 elsewhere (keratome-vtk(5)). */
+static int bridge_field(const kt_wound *w, const kt_mesh *m, double *b, kt_err *e)
+{
+    if (!w || !(w->k > 0)) return KT_OK;
+    int *slots, n;
+    if (kt_wound_pairs(w, m, &slots, &n, e)) return e->code;
+    for (int q = 0; q < n; q++) b[slots[q] / 4] = b[w->mate[slots[q]] / 4] = w->k;
+    free(slots);
+    return KT_OK;
+}
+
 /* The step's VTK: the cut mesh, its displacement (NaN off the --output set), origins and
  * reactions (none with --output); step 0's also the per-tet inputs of the physics (the cut
  * keeps the tets, so step 0's fields hold on every step: written once, keratome-vtk(5)). */
@@ -300,9 +313,14 @@ static int write_vtk(run *r, const kt_aug_run_opts *o, kt_err *e)
     char path[PATH_MAX];
     snprintf(path, sizeof path, "%s/step-%04d.vtk", o->run_dir, kt_solver_at(r->sv));
     double *origin = kt_calloc((size_t)m->nn, sizeof(double), e);
-    if (!origin) return e->code;
+    double *bridge = kt_calloc((size_t)(m->ne ? m->ne : 1), sizeof(double), e);
+    if (!origin || !bridge || bridge_field(r->fem.wound, m, bridge, e)) {
+        free(origin);
+        free(bridge);
+        return e->code;
+    }
     for (int i = 0; i < m->nn; i++) origin[i] = org[i] + 1;
-    kt_vtk_field f[3 + KT_UQ_N + KT_PHYSICS_NFIELD] = {
+    kt_vtk_field f[4 + KT_UQ_N + KT_PHYSICS_NFIELD] = {
         {"displacement", 3, 0, 0, (double *)kt_solver_u(r->sv)},
         {"origin", 1, 0, 1, origin},
         {"reaction", 3, 0, 0, (double *)react}};
@@ -313,9 +331,11 @@ static int write_vtk(run *r, const kt_aug_run_opts *o, kt_err *e)
         f[nf].ncomp = 3;
         f[nf].v = (double *)kt_solver_dudp(r->sv, k);
     }
+    if (r->fem.wound) f[nf++] = (kt_vtk_field){"bridge", 1, 1, 0, bridge}; /* a healed wound's */
     for (int k = 0; kt_solver_at(r->sv) == 0 && k < r->ph->ncell; k++) f[nf++] = r->ph->cell[k];
     kt_vtk_write_tets(path, m, f, nf, o->binary, e);
     free(origin);
+    free(bridge);
     return e->code;
 }
 
@@ -422,6 +442,7 @@ static int write_uncertainty(run *r, const kt_aug_run_opts *o, kt_err *e)
     if (kt_out_open(&out, path, e)) return e->code;
     fputs("param\tunit\tvalue\tsd\tmethod\tsource\n", out.f);
     for (int q = 0; q < KT_UQ_N; q++) {
+        if (q == KT_UQ_HEAL && !isfinite(r->S->value[q])) continue; /* no bridge stiffness */
         fprintf(out.f, "%s\t%s\t", kt_uq_name(q), kt_uq_unit(q));
         tsv_num(out.f, r->S->value[q], "%.6g");
         fputc('\t', out.f);

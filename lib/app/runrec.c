@@ -96,6 +96,13 @@ static void materials(FILE *f, const kt_scene *sc)
     if (sc->npressure == 0) fputs("    []\n", f);
     static const char *const REF[] = {"loaded", "unloaded", "prestressed"};
     fprintf(f, "  reference: %s\n", sc->reference >= 0 && sc->reference <= 2 ? REF[sc->reference] : "unknown");
+    const kt_wound_scene *w = &sc->wound; /* keratome-scene(5), WOUND: k is what was solved */
+    fprintf(f, "  wound: {state: %s, k_MPa_per_mm: %.6g, bridge_stiffness_MPa_per_mm: %.6g, age_rate_per_y: %.6g, "
+               "age_y: %.6g, months: ", w->state == KT_WOUND_HEALED ? "healed" : "immediate", kt_scene_wound_k(sc),
+            w->bridge_stiffness, w->age_rate, kt_scene_wound_age(sc));
+    if (isfinite(w->months)) fprintf(f, "%.6g", w->months);
+    else fputs("null", f);
+    fprintf(f, ", heal_time_months: %.6g}\n", w->heal_time);
 }
 
 /* The scene file itself as a literal block (content indented 4: indicator 2 under a key at 2). */

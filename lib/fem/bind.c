@@ -1,5 +1,6 @@
 /* bind.c: scene names -> mesh tags: materials, Dirichlet data, pressures, fixation surfaces. */
 #include "bind.h"
+#include "wound.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -85,6 +86,11 @@ int kt_fem_bind(const kt_scene *s, const kt_mesh *m, kt_fem_problem *p, kt_err *
         }
         p->press[p->npress++] = (kt_fem_load_surf){g->tag, s->pressure[i].p};
     }
+    double k = kt_scene_wound_k(s);
+    if (k > 0) {
+        if (!(p->wound = kt_calloc(1, sizeof *p->wound, e)) || kt_wound_build(p->wound, m, k, e)) goto fail;
+        p->mats.wound = p->wound;
+    }
     return KT_OK;
 fail:
     kt_fem_problem_free(p);
@@ -96,6 +102,8 @@ void kt_fem_problem_free(kt_fem_problem *p)
     free(p->mats.mat);
     free(p->fixed);
     free(p->g);
+    if (p->wound) kt_wound_free(p->wound);
+    free(p->wound);
     memset(p, 0, sizeof *p);
 }
 

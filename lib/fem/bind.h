@@ -29,9 +29,13 @@ typedef struct kt_fem_problem {
     kt_fem_load_surf press[KT_SCENE_MAX];
     int nfix;
     kt_fem_fix_surf fix[KT_SCENE_MAX];
+    struct kt_wound *wound;     /* owned, NULL: the healed wound's bridge on the mesh bound
+                                   (wound.h; the scene's wound: state healed, k > 0); mats.wound
+                                   points to it */
 } kt_fem_problem;
 
-/* Bind scene s to mesh m. Regions are matched by name, then the scene's "default" material; a
+/* Bind scene s to mesh m (intact). Regions are matched by name, then the scene's "default"
+ * material; the scene's healed wound (kt_scene_wound_k > 0) becomes the bridge of m's faces; a
  * region without one, or a pressure or fixation surface missing from the mesh, is KT_EINPUT
  * naming the scene file and the entry. On failure *p holds nothing to free. */
 int kt_fem_bind(const kt_scene *s, const kt_mesh *m, kt_fem_problem *p, kt_err *e);

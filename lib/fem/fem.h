@@ -38,11 +38,15 @@ typedef struct kt_fem_tetdata {
 } kt_fem_tetdata;
 
 /* Materials by region tag: region tag t uses mat[t]; nmat > every tag in the mesh. td (may be
- * NULL) adds per-tet data; the caller owns it. */
+ * NULL) adds per-tet data; the caller owns it. wound (may be NULL; wound.h) bridges the cut
+ * face pairs of a healed wound: kt_fem_assemble, kt_fem_nl_assemble and kt_fem_nl_residual of
+ * a cut mesh include it (the element kernels do not); the caller owns it. */
+struct kt_wound;
 typedef struct kt_materials {
     int nmat;
     kt_material *mat;
     const kt_fem_tetdata *td;
+    const struct kt_wound *wound;
 } kt_materials;
 
 /* Constitutive matrix (Voigt, global axes) of the lamellar material: an isotropic matrix
@@ -108,15 +112,18 @@ int kt_fem_pressure_faces(const kt_mesh *m, int surf_tag, double p, double *pfac
  * closed surface (or one whose boundary nodes are fixed) is, on the free DOFs. */
 void kt_fem_face_load_stiffness(int order, const double *xf, double p, double *Kf);
 
-/* Global stiffness of the whole mesh (3*nn DOFs), symmetric, lower triangle stored (stype -1).
+/* Global stiffness of the whole mesh (3*nn DOFs), symmetric, lower triangle stored (stype -1):
+ * the elements and, with mats->wound, the bridge of the mesh's cut face pairs (wound.h).
  * DOFs marked in fixed (may be NULL) get identity rows and columns: the matrix a Dirichlet
  * problem factors, with values lifted into the right-hand side by kt_fem_lift. */
 cholmod_sparse *kt_fem_assemble(const kt_mesh *m, const kt_materials *mats,
                                 const unsigned char *fixed, cholmod_common *c, kt_err *e);
 
 /* The pattern of kt_fem_assemble's matrix without fixed DOFs (CHOLMOD_PATTERN, lower, sorted
- * rows): every entry an element of m couples, no values. */
-cholmod_sparse *kt_fem_pattern(const kt_mesh *m, cholmod_common *c, kt_err *e);
+ * rows, whole 3 x 3 node blocks): every entry an element of m couples, and with wound (may be
+ * NULL) every node pair a cut face pair couples; no values. */
+cholmod_sparse *kt_fem_pattern(const kt_mesh *m, const struct kt_wound *wound, cholmod_common *c,
+                               kt_err *e);
 
 /* Consistent nodal forces of a pressure p (MPa) on the boundary surface with tag surf_tag,
  * pushing into the solid (traction -p n, n the solid's outward normal); added to f (3*nn).

@@ -9,6 +9,7 @@
 
 #include "chol.h"
 #include "topology.h"
+#include "wound.h"
 
 /* ------------------------------------------------------------------ pattern */
 
@@ -30,31 +31,93 @@ static int cmp_int(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The couplings beyond the tets: the cut face pairs of a healed wound (wound.h), each an
+ * element of both faces' nodes (nv of them), and node -> elements in CSR form (Xp, Xi). */
+typedef struct extra_elems {
+    int n, nv;
+    int *node, *Xp, *Xi;
+} extra_elems;
+
+static void extra_free(extra_elems *X)
+{
+    free(X->node);
+    free(X->Xp);
+    free(X->Xi);
+    memset(X, 0, sizeof *X);
+}
+
+static int extra_build(const kt_mesh *m, const kt_wound *w, extra_elems *X, kt_err *e)
+{
+    memset(X, 0, sizeof *X);
+    int *slots = NULL, loc[6], fv = kt_wound_face_local(m->order, 0, loc);
+    if (kt_wound_pairs(w, m, &slots, &X->n, e)) return e->code;
+    X->nv = 2 * fv;
+    int tnv = kt_tet_nv(m->order);
+    X->node = kt_calloc((size_t)(X->n ? X->n : 1) * X->nv, sizeof(int), e);
+    X->Xp = kt_calloc((size_t)m->nn + 1, sizeof(int), e);
+    X->Xi = kt_calloc((size_t)(X->n ? X->n : 1) * X->nv, sizeof(int), e);
+    for (int q = 0; q < X->n && !e->code; q++)
+        for (int side = 0; side < 2; side++) {
+            int s = side ? w->mate[slots[q]] : slots[q];
+            kt_wound_face_local(m->order, s % 4, loc);
+            for (int i = 0; i < fv; i++)
+                X->node[(size_t)q * X->nv + side * fv + i] = m->tet[(size_t)(s / 4) * tnv + loc[i]];
+        }
+    free(slots);
+    if (e->code) return e->code;
+    for (size_t k = 0; k < (size_t)X->n * X->nv; k++) X->Xp[X->node[k] + 1]++;
+    for (int j = 0; j < m->nn; j++) X->Xp[j + 1] += X->Xp[j];
+    int *fill = kt_calloc((size_t)m->nn + 1, sizeof(int), e);
+    if (!fill) return e->code;
+    for (size_t k = 0; k < (size_t)X->n * X->nv; k++) {
+        int a = X->node[k];
+        X->Xi[X->Xp[a] + fill[a]++] = (int)(k / X->nv);
+    }
+    free(fill);
+    return KT_OK;
+}
+
+/* Mark and list the nodes i > j of one element. */
+static int gather_elem(const int *t, int nv, int j, int *mark, int *list, int cnt)
+{
+    for (int a = 0; a < nv; a++)
+        if (t[a] > j && mark[t[a]] != j) {
+            mark[t[a]] = j;
+            list[cnt++] = t[a];
+        }
+    return cnt;
+}
+
 /* Gather node j's neighbours i > j into list (marking them in mark), return the count. */
-static int gather(const kt_mesh *m, int j, const int *Ep, const int *Ei, int *mark, int *list)
+static int gather(const kt_mesh *m, int j, const int *Ep, const int *Ei, const extra_elems *X,
+                  int *mark, int *list)
 {
     int nv = kt_tet_nv(m->order), cnt = 0;
     mark[j] = j;
     list[cnt++] = j;
-    for (int q = Ep[j]; q < Ep[j + 1]; q++) {
-        const int *t = m->tet + (size_t)Ei[q] * nv;
-        for (int a = 0; a < nv; a++)
-            if (t[a] > j && mark[t[a]] != j) {
-                mark[t[a]] = j;
-                list[cnt++] = t[a];
-            }
-    }
+    for (int q = Ep[j]; q < Ep[j + 1]; q++)
+        cnt = gather_elem(m->tet + (size_t)Ei[q] * nv, nv, j, mark, list, cnt);
+    for (int q = X->Xp ? X->Xp[j] : 0; X->Xp && q < X->Xp[j + 1]; q++)
+        cnt = gather_elem(X->node + (size_t)X->Xi[q] * X->nv, X->nv, j, mark, list, cnt);
     return cnt;
 }
 
-static int build_pattern(const kt_mesh *m, node_pattern *P, kt_err *e)
+static int build_pattern(const kt_mesh *m, const kt_wound *w, node_pattern *P, kt_err *e)
 {
     memset(P, 0, sizeof *P);
     int *Ep = NULL, *Ei = NULL;
-    if (kt_mesh_node_tets(m, &Ep, &Ei, e)) return e->code;
-    int nv = kt_tet_nv(m->order), maxdeg = 1; /* a gather writes at most 1 + nv per tet */
+    extra_elems X = {0};
+    if (w && w->k > 0 && extra_build(m, w, &X, e)) {
+        extra_free(&X);
+        return e->code;
+    }
+    if (kt_mesh_node_tets(m, &Ep, &Ei, e)) {
+        extra_free(&X);
+        return e->code;
+    }
+    int nv = kt_tet_nv(m->order), maxdeg = 1; /* a gather writes at most 1 + nv per element */
     for (int j = 0; j < m->nn; j++) {
-        int d = (Ep[j + 1] - Ep[j]) * nv + 1;
+        int d = (Ep[j + 1] - Ep[j]) * nv + 1 + (X.Xp ? (X.Xp[j + 1] - X.Xp[j]) * X.nv : 0);
         if (d > maxdeg) maxdeg = d;
     }
     int *mark = kt_calloc(m->nn ? m->nn : 1, sizeof(int), e);
@@ -64,7 +127,7 @@ static int build_pattern(const kt_mesh *m, node_pattern *P, kt_err *e)
     for (int i = 0; i < m->nn; i++) mark[i] = -1;
     size_t total = 0;
     for (int j = 0; j < m->nn; j++) {
-        total += gather(m, j, Ep, Ei, mark, list);
+        total += gather(m, j, Ep, Ei, &X, mark, list);
         if (total > INT_MAX) {
             kt_fail(e, KT_ERUN, "node adjacency too large for a 32-bit CHOLMOD matrix");
             goto done;
@@ -75,7 +138,7 @@ static int build_pattern(const kt_mesh *m, node_pattern *P, kt_err *e)
     if (e->code) goto done;
     for (int i = 0; i < m->nn; i++) mark[i] = -1;
     for (int j = 0; j < m->nn; j++) {
-        int cnt = gather(m, j, Ep, Ei, mark, P->Ni + P->Np[j]);
+        int cnt = gather(m, j, Ep, Ei, &X, mark, P->Ni + P->Np[j]);
         qsort(P->Ni + P->Np[j] + 1, cnt - 1, sizeof(int), cmp_int);
     }
 done:
@@ -83,6 +146,7 @@ done:
     free(Ei);
     free(mark);
     free(list);
+    extra_free(&X);
     if (e->code) pattern_free(P);
     return e->code;
 }
@@ -173,6 +237,20 @@ static void scatter(const node_pattern *P, const int *t, int nv, const double *K
         }
 }
 
+/* The bridge's entries (v >= w, one component: v = 3i + c, w = 3j + c, i >= j) into A. */
+typedef struct wound_sink {
+    const node_pattern *P;
+    cholmod_sparse *A;
+} wound_sink;
+
+static void wound_put(void *ctx, int v, int w, double x)
+{
+    wound_sink *s = ctx;
+    int i = v / 3, j = w / 3, r = v % 3, c = w % 3;
+    int k = find_neighbour(s->P, j, i);
+    ((double *)s->A->x)[entry_at(s->A->p, j, c, i, r, k)] += x;
+}
+
 /* The total Lagrangian state to assemble at (NULL: the linear tangent of kt_fem_element). */
 typedef struct nl_state {
     const double *u;
@@ -197,7 +275,10 @@ static int add_elements(const kt_mesh *m, const kt_materials *mats, nl_state *nl
             for (int a = 0; a < nv; a++)
                 for (int c = 0; c < 3; c++) nl->r[3 * (size_t)t[a] + c] += fe[3 * a + c];
     }
-    return KT_OK;
+    if (!kt_wound_on(mats)) return KT_OK;
+    wound_sink ws = {P, A};
+    if (kt_wound_assemble(mats->wound, m, NULL, 1.0, wound_put, &ws, e)) return e->code;
+    return nl ? kt_wound_apply(mats->wound, m, nl->u, 1.0, nl->r, e) : KT_OK;
 }
 
 /* Replace rows and columns of fixed DOFs by the identity, dropping their entries in place. */
@@ -228,7 +309,7 @@ static cholmod_sparse *assemble(const kt_mesh *m, const kt_materials *mats, nl_s
 {
     if (check_inputs(m, mats, e)) return NULL;
     node_pattern P;
-    if (build_pattern(m, &P, e)) return NULL;
+    if (build_pattern(m, kt_wound_on(mats) ? mats->wound : NULL, &P, e)) return NULL;
     size_t nnz = dof_nnz(m, &P), n = 3 * (size_t)m->nn;
     if (nnz > INT_MAX) {
         pattern_free(&P);
@@ -257,14 +338,15 @@ static cholmod_sparse *assemble(const kt_mesh *m, const kt_materials *mats, nl_s
     return A;
 }
 
-cholmod_sparse *kt_fem_pattern(const kt_mesh *m, cholmod_common *c, kt_err *e)
+cholmod_sparse *kt_fem_pattern(const kt_mesh *m, const kt_wound *wound, cholmod_common *c,
+                               kt_err *e)
 {
     if (m->order != 1 && m->order != 2) {
         kt_fail(e, KT_EINPUT, "mesh order %d (expected 1 or 2)", m->order);
         return NULL;
     }
     node_pattern P;
-    if (build_pattern(m, &P, e)) return NULL;
+    if (build_pattern(m, wound, &P, e)) return NULL;
     size_t nnz = dof_nnz(m, &P), n = 3 * (size_t)m->nn;
     cholmod_sparse *A = nnz > INT_MAX ? NULL
                         : cholmod_allocate_sparse(n, n, nnz, 1, 1, -1, CHOLMOD_PATTERN, c);

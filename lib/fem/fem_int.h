@@ -46,4 +46,13 @@ void kt_fem_gather_x(const kt_mesh *m, int tet, double *x);
 int kt_fem_element_C(const kt_mesh *m, const kt_materials *mats, int tet, double C[36],
                      kt_err *e);
 
+/* Radon's 7-point rule on the reference triangle (0,0) (1,0) (0,1), degree 5: exact for
+ * N_a (x_s x x_t) on a curved 6-node triangle (degree 4) and for N_a N_b on a straight one.
+ * Points (s, t); weights relative to the area 1/2 (they sum to 1). fem_load.c defines them. */
+extern const double kt_fem_t7_p[7][2];
+extern const double kt_fem_t7_w[7];
+/* tri6 shape functions N (6) and their (s, t) derivatives dN at (s, t); edge nodes on 01 12 20
+ * (gmsh). */
+void kt_fem_tri6_shape(double s, double t, double *N, double (*dN)[2]);
+
 #endif

@@ -1,6 +1,7 @@
 /* fem_load.c: consistent nodal forces of a pressure on a surface group (3- and 6-node
  * triangles), oriented by the one tet each triangle bounds. */
 #include "fem.h"
+#include "fem_int.h"
 
 #include "topology.h"
 
@@ -81,19 +82,17 @@ static void tri3_forces(const kt_mesh *m, const int *t, double sign, double p, d
         for (int k = 0; k < 3; k++) f[3 * (size_t)t[a] + k] -= p * sign * n2[k] / 6.0;
 }
 
-/* Radon's 7-point rule on the reference triangle, degree 5: exact for N_a (x_s x x_t) on a
- * curved 6-node triangle (degree 4). Points (s, t), weights relative to the area 1/2. */
+/* Radon's 7-point rule (fem_int.h). */
 #define RS15 3.8729833462074169 /* sqrt 15 */
 #define RA1 ((6.0 - RS15) / 21.0)
 #define RA2 ((6.0 + RS15) / 21.0)
 #define RW1 ((155.0 - RS15) / 1200.0)
 #define RW2 ((155.0 + RS15) / 1200.0)
-static const double T7_P[7][2] = {{1.0 / 3, 1.0 / 3}, {RA1, RA1}, {1 - 2 * RA1, RA1}, {RA1, 1 - 2 * RA1},
+const double kt_fem_t7_p[7][2] = {{1.0 / 3, 1.0 / 3}, {RA1, RA1}, {1 - 2 * RA1, RA1}, {RA1, 1 - 2 * RA1},
                                   {RA2, RA2}, {1 - 2 * RA2, RA2}, {RA2, 1 - 2 * RA2}};
-static const double T7_W[7] = {9.0 / 40, RW1, RW1, RW1, RW2, RW2, RW2};
+const double kt_fem_t7_w[7] = {9.0 / 40, RW1, RW1, RW1, RW2, RW2, RW2};
 
-/* tri6 shape functions and their (s, t) derivatives; edge nodes on 01 12 20. */
-static void tri6_shape(double s, double t, double *N, double (*dN)[2])
+void kt_fem_tri6_shape(double s, double t, double *N, double (*dN)[2])
 {
     static const double dL[3][2] = {{-1, -1}, {1, 0}, {0, 1}};
     double L[3] = {1 - s - t, s, t};
@@ -113,14 +112,14 @@ static void tri6_forces(const kt_mesh *m, const int *t, double sign, double p, d
 {
     for (int q = 0; q < 7; q++) {
         double N[6], dN[6][2], xs[3] = {0}, xt[3] = {0}, nA[3];
-        tri6_shape(T7_P[q][0], T7_P[q][1], N, dN);
+        kt_fem_tri6_shape(kt_fem_t7_p[q][0], kt_fem_t7_p[q][1], N, dN);
         for (int a = 0; a < 6; a++)
             for (int k = 0; k < 3; k++) {
                 xs[k] += m->xyz[3 * (size_t)t[a] + k] * dN[a][0];
                 xt[k] += m->xyz[3 * (size_t)t[a] + k] * dN[a][1];
             }
         cross(xs, xt, nA);
-        double w = -p * sign * 0.5 * T7_W[q];
+        double w = -p * sign * 0.5 * kt_fem_t7_w[q];
         for (int a = 0; a < 6; a++)
             for (int k = 0; k < 3; k++) f[3 * (size_t)t[a] + k] += w * N[a] * nA[k];
     }
@@ -186,8 +185,8 @@ void kt_fem_face_load_stiffness(int order, const double *xf, double p, double *K
             }
             w = 0.5;
         } else {
-            tri6_shape(T7_P[q][0], T7_P[q][1], N, dN);
-            w = 0.5 * T7_W[q];
+            kt_fem_tri6_shape(kt_fem_t7_p[q][0], kt_fem_t7_p[q][1], N, dN);
+            w = 0.5 * kt_fem_t7_w[q];
         }
         for (int a = 0; a < fv; a++)
             for (int k = 0; k < 3; k++) {

@@ -4,8 +4,10 @@
  * strain matrix and element terms are fem.c's (fem_int.h). */
 #include "fem.h"
 #include "fem_int.h"
+#include "wound.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* F = I + H, H = sum_a u_a (x) g_a, and the Green-Lagrange strain E = (H + H^T + H^T H) / 2
@@ -97,5 +99,15 @@ int kt_fem_nl_residual(const kt_mesh *m, const kt_materials *mats, const double 
                 if (rabs) rabs[3 * (size_t)t[a] + c] += fabs(fe[3 * a + c]);
             }
     }
-    return KT_OK;
+    if (!kt_wound_on(mats)) return KT_OK;
+    /* the bridge's forces B u (linear in u in the reference configuration, wound.h) */
+    size_t n = 3 * (size_t)m->nn;
+    double *bu = kt_calloc(n, sizeof(double), e);
+    if (bu && !kt_wound_apply(mats->wound, m, u, 1.0, bu, e))
+        for (size_t i = 0; i < n; i++) {
+            r[i] += bu[i];
+            if (rabs) rabs[i] += fabs(bu[i]);
+        }
+    free(bu);
+    return e->code;
 }

@@ -46,7 +46,7 @@ int kt_physics_cell_fields(kt_physics *ph, const kt_mesh *m, kt_err *e)
     }
     if (ph->prestressed) {
         double *v = add(ph, "sigma0", 6, 0, ne, &next);
-        kt_materials mats = {0, NULL, &ph->td};
+        kt_materials mats = {0, NULL, &ph->td, NULL};
         for (int t = 0; t < m->ne; t++) {
             double s[6];
             if (kt_fem_prestress_mean(m, &mats, t, s, e)) return e->code;

@@ -2,6 +2,7 @@
  * quantities apply, dC per tet, the prestress's derivatives from the prestress solve's own
  * factorization, the derivative loads, and a step's derivatives from scratch. */
 #include "sens.h"
+#include "wound.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -61,9 +62,20 @@ void kt_fem_sens_plan(const kt_scene *s, const kt_fem_problem *fp, kt_fem_sens *
     }
     S->value[KT_UQ_AGE_SLOPE] = KT_UQ_AGE_SLOPE_VALUE;
     if (isfinite(u->age) && cornea) S->method[KT_UQ_AGE_SLOPE] = KT_SENS_DERIVATIVE;
+    /* heal = ln(k / (1 MPa/mm)): a derivative for a healed wound; for an immediate one the
+     * value a healed state would have, not applicable */
+    double kh = kt_scene_wound_k_healed(s);
+    if (kh > 0) S->value[KT_UQ_HEAL] = log(kh);
+    if (fp->wound && fp->wound->k > 0) {
+        S->value[KT_UQ_HEAL] = log(fp->wound->k);
+        S->method[KT_UQ_HEAL] = KT_SENS_DERIVATIVE;
+    }
     for (int q = 0; q < KT_UQ_N; q++) {
         if (!(S->sd[q] > 0)) S->method[q] = KT_SENS_NONE;
-        if (S->method[q] == KT_SENS_DERIVATIVE) S->d[S->nd++].q = q;
+        if (S->method[q] == KT_SENS_DERIVATIVE) {
+            S->d[S->nd].q = q;
+            S->d[S->nd++].dwound = q == KT_UQ_HEAL;
+        }
     }
 }
 
@@ -81,6 +93,7 @@ kt_materials kt_fem_sens_mats(const kt_fem_sens *S, int k, const kt_materials *m
 {
     kt_materials m = *mats;
     m.td = &S->d[k].td;
+    m.wound = NULL;
     return m;
 }
 
@@ -381,6 +394,9 @@ static int fresh_rhs(void *ctx, const double *u0, double *b, kt_err *e)
         if (d->dK_zero) continue;
         kt_materials dm = kt_fem_sens_mats(P->S, k, P->mats);
         if (sub_dK_u(P->m, &dm, d, P->u, b + k * n, e)) return e->code;
+        if (d->dwound != 0 && kt_wound_on(P->mats) &&
+            kt_wound_apply(P->mats->wound, P->m, P->u, -d->dwound, b + k * n, e))
+            return e->code;
     }
     return KT_OK;
 }

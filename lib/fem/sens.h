@@ -11,7 +11,8 @@
  *   df/dq = pressures(dp/dq) + release(dsig0/dq),
  *   dsig0/dq = dC/dq eps(u0) + C eps(du0/dq), du0/dq = K0^-1 (df_p/dq - dK0/dq u0),
  * every term linear in its data, so one kt_fem_tetdata per quantity holds dC, dsig0 and
- * dpface, and kt_fem_element / kt_fem_element_release with it give the element's dA/dq and
+ * dpface, and heal = ln k (the healed wound's bridge stiffness, wound.h) adds dA/dheal = B, the
+ * bridge itself, on the cut face pairs only (no load, no prestress: the intact mesh has none), and kt_fem_element / kt_fem_element_release with it give the element's dA/dq and
  * the release's derivative. du0/dq costs one more substitution with the prestress solve's own
  * factorization, every quantity at once (kt_physics_finish_sens). */
 #ifndef KT_SENS_H
@@ -28,6 +29,8 @@ typedef struct kt_fem_dparam {
                                    (prestressed scenes, else NULL), dpface (iop, else NULL) */
     double dpress[KT_SCENE_MAX];/* d p_k / dq, MPa per unit of q, of pressure k of the problem */
     int dK_zero;                /* dA/dq = 0 (iop on a scene without prestress) */
+    double dwound;              /* dA/dq holds dwound x the wound's bridge B (wound.h): 1 for
+                                   heal = ln k (dB/dln k = B), else 0 */
 } kt_fem_dparam;
 
 typedef struct kt_fem_sens {
@@ -57,7 +60,8 @@ int kt_physics_finish_sens(const kt_scene *s, const kt_mesh *m, kt_fem_problem *
                            kt_physics *ph, kt_fem_sens *S, kt_err *e);
 void kt_fem_sens_free(kt_fem_sens *S);
 
-/* The materials of derivative k: mats with td replaced by S->d[k].td. */
+/* The materials of derivative k: mats with td replaced by S->d[k].td and no wound (the
+ * bridge's part of dA/dq is d->dwound B, added apart). */
 kt_materials kt_fem_sens_mats(const kt_fem_sens *S, int k, const kt_materials *mats);
 
 /* r (3*nn, overwritten) := df/dq of derivative k on mesh m (cut or not): pressures with

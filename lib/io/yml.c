@@ -40,18 +40,37 @@ static const unit UNITS[] = {
     {KT_UNIT_FORCE, "mN", 1e-3},
     {KT_UNIT_FORCE, "kN", 1e3},
     {KT_UNIT_POWER, "D", 1.0},
+    {KT_UNIT_STIFFNESS, "MPa/mm", 1.0},
+    {KT_UNIT_STIFFNESS, "N/mm3", 1.0},
+    {KT_UNIT_STIFFNESS, "N/mm^3", 1.0},
+    {KT_UNIT_STIFFNESS, "kPa/mm", 1e-3},
+    {KT_UNIT_RATE, "/y", 1.0},
+    {KT_UNIT_RATE, "1/y", 1.0},
+    {KT_UNIT_RATE, "/year", 1.0},
+    {KT_UNIT_RATE, "%/y", 0.01},
+    /* a month is a twelfth of a Julian year (365.25 d) */
+    {KT_UNIT_TIME, "months", 1.0},
+    {KT_UNIT_TIME, "month", 1.0},
+    {KT_UNIT_TIME, "d", 12 / 365.25},
+    {KT_UNIT_TIME, "days", 12 / 365.25},
+    {KT_UNIT_TIME, "wk", 12 * 7 / 365.25},
+    {KT_UNIT_TIME, "weeks", 12 * 7 / 365.25},
+    {KT_UNIT_TIME, "y", 12.0},
+    {KT_UNIT_TIME, "years", 12.0},
 };
 #define NUNITS ((int)(sizeof UNITS / sizeof UNITS[0]))
 
 /* The dimension with its article, for messages. */
-static const char *A_DIM[] = {"a number", "a length", "a pressure", "an angle", "a force", "a power"};
+static const char *A_DIM[] = {"a number", "a length", "a pressure", "an angle", "a force", "a power",
+                              "a stiffness per area", "a rate per year", "a time"};
 static const char *DIM_UNITS[] = {"", "mm, um, cm, m", "MPa, kPa, Pa, GPa, mmHg, N/mm2",
-                                  "deg, rad", "N, mN, kN", "D"};
+                                  "deg, rad", "N, mN, kN", "D", "MPa/mm, N/mm3, kPa/mm",
+                                  "/y, 1/y, %/y", "months, d, wk, y"};
 
 const char *kt_yml_unit_name(int dim)
 {
-    static const char *INTERNAL[] = {"", "mm", "MPa", "deg", "N", "D"};
-    return dim >= 0 && dim <= KT_UNIT_POWER ? INTERNAL[dim] : "";
+    static const char *INTERNAL[] = {"", "mm", "MPa", "deg", "N", "D", "MPa/mm", "/y", "months"};
+    return dim >= 0 && dim <= KT_UNIT_LAST ? INTERNAL[dim] : "";
 }
 
 static const char *file_name(const kt_yml *y) { return strcmp(y->path, "-") ? y->path : "<stdin>"; }
@@ -429,7 +448,7 @@ static int quantity_error(kt_yml *y, const yaml_node_t *n, const char *what, int
 int kt_yml_quantity(kt_yml *y, const yaml_node_t *n, const char *what, int dim, kt_yml_bounds b,
                     double *v, kt_err *e)
 {
-    if (dim < 0 || dim > KT_UNIT_POWER) return kt_fail(e, KT_ERUN, "%s: bad unit dimension %d", what, dim);
+    if (dim < 0 || dim > KT_UNIT_LAST) return kt_fail(e, KT_ERUN, "%s: bad unit dimension %d", what, dim);
     const char *s = need_scalar(y, n, what, dim ? "a quantity with a unit" : "a number", e);
     if (!s) return e->code;
     double x;

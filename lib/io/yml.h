@@ -30,8 +30,12 @@ enum {
     KT_UNIT_PRESSURE,  /* MPa  (also Pa, kPa, GPa, mmHg, N/mm2) */
     KT_UNIT_ANGLE,     /* deg  (also rad) */
     KT_UNIT_FORCE,     /* N    (also mN, kN) */
-    KT_UNIT_POWER      /* D    (dioptres) */
+    KT_UNIT_POWER,     /* D    (dioptres) */
+    KT_UNIT_STIFFNESS, /* MPa/mm, a stiffness per area (also N/mm3, N/mm^3, kPa/mm) */
+    KT_UNIT_RATE,      /* /y, a rate per year (also 1/y, /year, %/y) */
+    KT_UNIT_TIME       /* months (also month, d, days, wk, weeks, y, years) */
 };
+#define KT_UNIT_LAST KT_UNIT_TIME
 
 /* Closed or open bounds for range checks: lo <= v (lo < v if lo_open), likewise hi. */
 typedef struct kt_yml_bounds {

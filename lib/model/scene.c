@@ -12,7 +12,7 @@
 
 static const char *const TOP_KEYS[] = {"name", "description", "model", "order", "ordering", "eye",
                                        "box", "surface", "image", "materials", "loads",
-                                       "fixation", "uncertainty", NULL};
+                                       "fixation", "uncertainty", "wound", NULL};
 static const char *const MODELS[] = {"eye", "box", "surface", "image", NULL};
 static const char *const ORDERINGS[] = {"amd", "metis", "constrained", "natural", "metis-last", NULL};
 static const char *const FACES[] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax", "none", NULL};
@@ -39,6 +39,7 @@ static void scene_defaults(kt_scene *s)
     s->reference = -1; /* set by model_defaults: eye prestressed, others loaded */
     s->reference_tol = 3e-5;            /* mm (0.03 um): K within about 0.01 D at 3 mm */
     kt_scene_unc_defaults(&s->unc);
+    kt_scene_wound_defaults(&s->wound);
 }
 
 int kt_scene_in_list(const char *const *list, const char *s)
@@ -588,6 +589,7 @@ static int parse_scene(kt_yml *y, yaml_node_t *root, kt_scene *s, kt_err *e)
     if (fix && parse_fixation(y, fix, s, e)) return e->code;
     if ((v = kt_yml_get(y, root, "uncertainty")) && kt_scene_parse_uncertainty(y, v, &s->unc, e))
         return e->code;
+    if ((v = kt_yml_get(y, root, "wound")) && kt_scene_parse_wound(y, v, &s->wound, e)) return e->code;
     model_defaults(mats, loads, fix, s);
     /* After the defaults: the floor refinement's sector is the ordering's. */
     if (check_budget(y, root, s, e)) return e->code;

@@ -73,7 +73,7 @@ typedef struct kt_fixation {
  * UNCERTAINTY; lib/model/scene_unc.c holds their names, units, default standard deviations and
  * sources). */
 enum { KT_UQ_E_INPLANE = 0, KT_UQ_G_TRANSVERSE, KT_UQ_IOP, KT_UQ_LIMBAL_DENSITY, KT_UQ_THICKNESS,
-       KT_UQ_DEPTH, KT_UQ_AGE_SLOPE, KT_UQ_N };
+       KT_UQ_DEPTH, KT_UQ_AGE_SLOPE, KT_UQ_HEAL, KT_UQ_N };
 enum { KT_UQ_NORMAL = 0, KT_UQ_UNIFORM };
 
 typedef struct kt_uncertainty {
@@ -92,6 +92,34 @@ const char *kt_uq_source(int q);
  * 1 + KT_UQ_AGE_SLOPE_VALUE (age - 60) / 10 (Li et al. 2024: +0.30 MPa per decade on 4.0). */
 #define KT_UQ_AGE_SLOPE_VALUE 0.075
 #define KT_UQ_AGE_PIVOT 60.0
+
+/* The wound's state (keratome-scene(5), WOUND; docs/physics.md, "Healing"): immediate (the
+ * elastic opening at the instant of cutting: no bridge) or healed (a scar of stiffness per area
+ * k across every cut face pair, lib/fem/wound.h). k = bridge_stiffness
+ * exp(-age_rate (age - KT_WOUND_AGE_PIVOT)) (1 - exp(-months / heal_time)) (the last factor 1
+ * when months is not given: the asymptotic scar). */
+enum { KT_WOUND_IMMEDIATE = 0, KT_WOUND_HEALED };
+typedef struct kt_wound_scene {
+    int state;                  /* KT_WOUND_* (default immediate) */
+    double bridge_stiffness;    /* MPa/mm (N/mm^3): k of a healed wound at the pivot age */
+    double age_rate;            /* 1/y: k falls by exp(-age_rate) per year of age */
+    double age;                 /* y: the patient's age; NAN: the scene's age_slope age
+                                   (lri-plan's patient), else the pivot */
+    double months;              /* months after surgery; NAN: the asymptotic (healed) scar */
+    double heal_time;           /* months: time constant of the scar's stiffening */
+} kt_wound_scene;
+
+/* Provisional defaults, to be identified by plans/studies/calibrate (docs/physics.md,
+ * "Healing"): k_ref 0.26 MPa/mm, interpolated in the table of scripts/heal-table.sh (k 0.05,
+ * 0.15, 0.5 MPa/mm: paired 60 2.151, 1.547, 0.786 D) to the default eye's paired 60 deg arcs at
+ * the healed outcome of Wang, Misra, Koch 2003 (1.18 D at about 4 months); age_rate the keratocyte
+ * density decline with age (0.3 %/y, Moller-Pedersen 1997) taken as the scar's; heal_time the
+ * scar's stiffening (Gasset and Dohlman 1968: no measurable strength for 12 days, a slow gain
+ * over 100 days). */
+#define KT_WOUND_K_DEFAULT 0.26
+#define KT_WOUND_AGE_RATE_DEFAULT 0.003
+#define KT_WOUND_HEAL_TIME_DEFAULT 1.5
+#define KT_WOUND_AGE_PIVOT 60.0
 
 typedef struct kt_scene {
     char path[1024], dir[1024]; /* the file and its folder */
@@ -118,7 +146,16 @@ typedef struct kt_scene {
     double reference_tol;       /* mm: shape tolerance of the stress-free iteration
                                    (loads.reference_tolerance; default 3e-5 mm) */
     kt_uncertainty unc;         /* uncertainty: (defaults when absent) */
+    kt_wound_scene wound;       /* wound: (defaults when absent) */
 } kt_scene;
+
+/* The bridge stiffness per area the scene's wound has, MPa/mm: 0 for an immediate wound. */
+double kt_scene_wound_k(const kt_scene *s);
+/* The same as if the state were healed (what heal = ln k would be; kt_fem_sens_plan). */
+double kt_scene_wound_k_healed(const kt_scene *s);
+/* The age it was taken at, y (wound.age, else the age_slope age, else the pivot). */
+double kt_scene_wound_age(const kt_scene *s);
+
 
 /* Load and validate a scene file. Unknown keys, duplicate keys, wrong types, missing or
  * unknown units and out-of-range values are KT_EINPUT with "file:line:col: expected ...". */

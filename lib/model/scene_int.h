@@ -3,6 +3,8 @@
 #define KT_SCENE_INT_H
 
 #include "scene.h"
+#include <stdio.h>
+
 #include "yml.h"
 
 extern const char *const kt_scene_eye_surfaces[];
@@ -20,5 +22,11 @@ int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e);
 /* The uncertainty section (scene_unc.c): defaults, then the entries of node n over them. */
 void kt_scene_unc_defaults(kt_uncertainty *u);
 int kt_scene_parse_uncertainty(kt_yml *y, const yaml_node_t *n, kt_uncertainty *u, kt_err *e);
+
+/* The wound section (scene_wound.c): defaults, the entries of node n over them, and the
+ * section as scene_write writes it (every field explicit). */
+void kt_scene_wound_defaults(kt_wound_scene *w);
+int kt_scene_parse_wound(kt_yml *y, const yaml_node_t *n, kt_wound_scene *w, kt_err *e);
+void kt_scene_write_wound(FILE *f, const kt_wound_scene *w);
 
 #endif

@@ -18,7 +18,11 @@
  *     deeper than the calibrated blade and scattered (Unterman et al. 1984) without a usable sd:
  *     50 um is a stated assumption (about 10% of a 500-600 um cut), to be replaced by a measured
  *     one.
- *   age_slope 0.05 per decade: +0.30 +- 0.21 MPa per decade on 4.0 MPa (Li et al. 2024). */
+ *   age_slope 0.05 per decade: +0.30 +- 0.21 MPa per decade on 4.0 MPa (Li et al. 2024).
+ *   heal 0.5: the natural logarithm of the healed wound's bridge stiffness (wound:), so a factor
+ *     e^0.5 = 1.65 either way: provisional, a stated assumption of the healing variability
+ *     (the spread of keratotomy outcomes between eyes, PERK 1987), to be replaced by the
+ *     identification study (plans/studies/calibrate). */
 static const struct {
     const char *name, *unit, *source;
     double sd;
@@ -30,6 +34,7 @@ static const struct {
     {"thickness", "um", "marsich2000", 8.0},
     {"depth", "um", "unterman1984", 50.0},
     {"age_slope", "1/decade", "li2024", 0.05},
+    {"heal", "1", "provisional", 0.5},
 };
 
 const char *kt_uq_name(int q) { return q >= 0 && q < KT_UQ_N ? UQ[q].name : "?"; }

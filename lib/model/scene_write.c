@@ -1,6 +1,8 @@
 /* scene_write.c: an eye scene as YAML, every field explicit (%.17g: read back exactly). */
 #include "scene_write.h"
 
+#include "scene_int.h"
+
 #include <math.h>
 
 static const char *const ORDER_NAMES[] = {"amd", "metis", "constrained", "natural", "metis-last"};
@@ -86,6 +88,7 @@ int kt_scene_write_eye(FILE *f, const kt_scene *s, const char *header, kt_err *e
         if (age) fprintf(f, ", age: %.17g", u->age);
         fprintf(f, "}\n");
     }
+    kt_scene_write_wound(f, &s->wound);
     if (ferror(f)) return kt_fail(e, KT_ERUN, "writing the scene '%s' failed", s->name);
     return KT_OK;
 }

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "chol.h"
+#include "wound.h"
 
 void kt_plan_factor_free(kt_plan_factor *F)
 {
@@ -123,15 +124,30 @@ int kt_plan_transform(const kt_edits_plan *p, const cholmod_sparse *K,
     return KT_OK;
 }
 
+/* A = T^T K T + B: the elements' K through the chains, and a healed wound's bridge B directly
+ * in the variables (wound.h: each jump is the difference of two chains without their common
+ * part, increments only), so the intact block is exactly the intact stiffness and the bridge
+ * lands on the increments' block alone (through T it would add and cancel on the intact DOFs,
+ * up to rounding). Its leading block at step k is step k's own bridge (wound.h). */
+static int plan_matrix(const kt_edits_plan *p, const cholmod_sparse *K, const kt_mesh *final,
+                       const kt_materials *mats, sink *s, kt_err *e)
+{
+    if (kt_plan_transform(p, K, put, s, e)) return e->code;
+    if (!kt_wound_on(mats)) return KT_OK;
+    return kt_wound_assemble(mats->wound, final, p->parent, 1.0, put, s, e);
+}
+
 /* A_FF (lower, in free positions) and the lifting entries from the final mesh's stiffness. */
 static int assemble(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
                     const kt_materials *mats, kt_err *e)
 {
     double t0 = kt_now();
-    cholmod_sparse *K = kt_fem_assemble(final, mats, NULL, &F->c, e);
+    kt_materials elem = *mats;
+    elem.wound = NULL; /* the bridge goes in apart, in the variables (plan_matrix) */
+    cholmod_sparse *K = kt_fem_assemble(final, &elem, NULL, &F->c, e);
     if (!K) return e->code;
     sink s = {F, NULL, 0, 0, 0};
-    if (kt_plan_transform(p, K, put, &s, e) == KT_OK) {
+    if (plan_matrix(p, K, final, mats, &s, e) == KT_OK) {
         s.T = cholmod_allocate_triplet(F->nfree, F->nfree, s.nt ? s.nt : 1, -1, CHOLMOD_REAL, &F->c);
         F->lrow = kt_calloc(s.nl ? s.nl : 1, sizeof(int), e);
         F->lcol = kt_calloc(s.nl ? s.nl : 1, sizeof(int), e);
@@ -142,7 +158,7 @@ static int assemble(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *fi
         F->nlift = (int)s.nl;
         s.nt = s.nl = 0;
         s.fill = 1;
-        kt_plan_transform(p, K, put, &s, e);
+        plan_matrix(p, K, final, mats, &s, e);
         s.T->nnz = s.nt;
     }
     cholmod_free_sparse(&K, &F->c);

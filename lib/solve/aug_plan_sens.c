@@ -6,6 +6,8 @@
 #include "aug_plan_sens.h"
 #include "chol.h"
 
+#include "wound.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -45,11 +47,13 @@ static void tput(void *ctx, int v, int w, double x)
     s->nt++;
 }
 
-/* D->P: the pattern of T^T K T on the final mesh (K's pattern through the chains). */
+/* D->P: the pattern of T^T K T on the final mesh (K's pattern through the chains; with a
+ * healed wound K's pattern holds the cut face pairs' couplings, so the bridge's entries in the
+ * variables, a subset of them through the chains, are in it). */
 static int variable_pattern(kt_plan_sens *D, const kt_edits_plan *p, const kt_mesh *final,
-                            kt_err *e)
+                            const kt_materials *mats, kt_err *e)
 {
-    cholmod_sparse *K = kt_fem_pattern(final, &D->c, e);
+    cholmod_sparse *K = kt_fem_pattern(final, kt_wound_on(mats) ? mats->wound : NULL, &D->c, e);
     if (!K) return e->code;
     tsink count = {NULL, 0};
     cholmod_triplet *T = NULL;
@@ -195,6 +199,38 @@ static int element_pass(kt_plan_sens *D, const kt_edits_plan *p, const kt_mesh *
     return e->code;
 }
 
+/* dA/dheal = the bridge B in the variables (wound.h), into dAx's slot k of every entry. */
+typedef struct heal_sink {
+    kt_plan_sens *D;
+    int k;
+    kt_err *e;
+} heal_sink;
+
+static void heal_put(void *ctx, int v, int w, double x)
+{
+    heal_sink *h = ctx;
+    if (h->e->code) return;
+    kt_plan_sens *D = h->D;
+    int q = block_at(D->P, v / 3, w), v0 = 3 * (v / 3) > w ? 3 * (v / 3) : w, at = q + v - v0;
+    if (q < 0 || ((const int *)D->P->i)[at] != v) {
+        kt_fail(h->e, KT_ERUN, "bridge entry (%d, %d) outside the plan's pattern", v, w);
+        return;
+    }
+    D->dAx[(size_t)D->nd * at + h->k] += x;
+}
+
+static int heal_pass(kt_plan_sens *D, const kt_edits_plan *p, const kt_mesh *final,
+                     const kt_materials *mats, kt_err *e)
+{
+    for (int k = 0; k < D->nd && !e->code; k++) {
+        if (D->S->d[k].dwound == 0 || !kt_wound_on(mats)) continue;
+        heal_sink h = {D, k, e};
+        if (kt_wound_assemble(mats->wound, final, p->parent, D->S->d[k].dwound, heal_put, &h, e))
+            break;
+    }
+    return e->code;
+}
+
 int kt_plan_sens_init(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan *p,
                       const kt_plan_factor *F, const kt_mesh *final, const kt_materials *mats,
                       kt_err *e)
@@ -220,7 +256,8 @@ int kt_plan_sens_init(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan
     if (e->code) return e->code;
     for (int v = 0; v < D->nvar; v++)
         if (F->pos[v] >= 0) D->var[F->pos[v]] = v;
-    if (D->nd && (variable_pattern(D, p, final, e) || element_pass(D, p, final, mats, e)))
+    if (D->nd && (variable_pattern(D, p, final, mats, e) || element_pass(D, p, final, mats, e) ||
+                  heal_pass(D, p, final, mats, e)))
         return e->code;
     D->t_setup = kt_now() - t0;
     return KT_OK;

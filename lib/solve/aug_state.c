@@ -100,6 +100,7 @@ int kt_aug_stream_init(aug_stream *s, const kt_aug_problem *p, kt_err *e)
     if (e->code) return e->code;
     memcpy(s->mats.mat, p->mats->mat, (size_t)p->mats->nmat * sizeof(kt_material));
     s->mats.td = p->mats->td; /* per-tet data: shared, owned by the caller */
+    s->mats.wound = p->mats->wound; /* the healed wound's bridge: likewise */
     s->npress = p->npress;
     if (p->npress) memcpy(s->press, p->press, (size_t)p->npress * sizeof(kt_aug_pressure));
     s->nfix = p->nfix;

@@ -66,7 +66,7 @@ static void tangent_check(int order, double bend)
     for (int q = 0; q < KT_FEM_NQ * 6; q++) sig[q] = 0.01 * sin(1.0 + 0.7 * q);
     kt_fem_tetdata td = {1, C, sig, pface};
     kt_material mat = {1, 0.3};
-    kt_materials mats = {1, &mat, &td};
+    kt_materials mats = {1, &mat, &td, NULL};
     double u[30], Ke[900], Kfd[900], fp[30], fm[30], fe[30];
     for (int i = 0; i < nd; i++) u[i] = 0.15 * sin(2.3 * i + 0.4);
     kt_err e = {0};
@@ -114,7 +114,7 @@ static void rotation_check(int order)
     one_tet(&m, order, order == 2 ? 0.05 : 0);
     int nd = 3 * m.nn;
     kt_material mat = {2.0, 0.3};
-    kt_materials mats = {1, &mat, NULL};
+    kt_materials mats = {1, &mat, NULL, NULL};
     double u[30], fe[30], Kl[900];
     for (int a = 0; a < m.nn; a++) { /* 90 deg about z: (x, y, z) -> (-y, x, z) */
         const double *X = m.xyz + 3 * a;
@@ -143,7 +143,7 @@ static void stretch_check(void)
     kt_mesh m;
     one_tet(&m, 1, 0);
     kt_material mat = {2.0, 0.0};
-    kt_materials mats = {1, &mat, NULL};
+    kt_materials mats = {1, &mat, NULL, NULL};
     double lam = 1.6, u[12], fe[12];
     for (int a = 0; a < 4; a++) {
         u[3 * a] = (lam - 1) * m.xyz[3 * a];

@@ -246,6 +246,21 @@ static void test_scene(void)
     CHECK(s.unc.age == 68 && back.unc.age == s.unc.age && back.unc.sd[KT_UQ_AGE_SLOPE] ==
               kt_uq_default_sd(KT_UQ_AGE_SLOPE) && back.unc.sd[KT_UQ_IOP] == kt_uq_default_sd(KT_UQ_IOP),
           "uncertainty read back: age %g", back.unc.age);
+    /* the wound travels with the written scene, and its k follows the patient's age */
+    CHECK(back.wound.state == s.wound.state && back.wound.bridge_stiffness == s.wound.bridge_stiffness &&
+              back.wound.age_rate == s.wound.age_rate && back.wound.heal_time == s.wound.heal_time &&
+              isnan(back.wound.months) && isnan(back.wound.age),
+          "wound read back");
+    s.wound.state = KT_WOUND_HEALED;
+    CHECK_NEAR(kt_scene_wound_k(&s), s.wound.bridge_stiffness * exp(-s.wound.age_rate * (68 - 60)), 1e-15,
+               "the healed wound's k at the patient's age");
+    s.wound.months = 4;
+    f = fopen(path, "w");
+    CHECK(f && kt_scene_write_eye(f, &s, "test", &e) == KT_OK, "write: %s", e.msg);
+    if (f) fclose(f);
+    CHECK(kt_scene_load(path, &back, &e) == KT_OK && back.wound.state == KT_WOUND_HEALED && back.wound.months == 4 &&
+              kt_scene_wound_k(&back) == kt_scene_wound_k(&s),
+          "a healed wound reads back: %s", e.msg);
 }
 
 int main(void)

@@ -254,6 +254,37 @@ static void test_on_mesh(void)
     kt_mesh_free(&m);
 }
 
+/* The wound: section: defaults (immediate, k = 0), units, the k of the age and time rule. */
+static void test_wound(void)
+{
+    char path[128];
+    kt_scene s;
+    kt_err e = {0};
+    snprintf(path, sizeof path, "%s/wound0.yaml", dir);
+    write_file(path, "model: box\nbox: {nodes: [2, 2, 2], size: [1 mm, 1 mm, 1 mm]}\n");
+    CHECK(kt_scene_load(path, &s, &e) == KT_OK, "%s", e.msg);
+    CHECK(s.wound.state == KT_WOUND_IMMEDIATE && kt_scene_wound_k(&s) == 0 &&
+              s.wound.bridge_stiffness == KT_WOUND_K_DEFAULT && kt_scene_wound_age(&s) == 60,
+          "default wound: immediate, k 0");
+    snprintf(path, sizeof path, "%s/wound1.yaml", dir);
+    write_file(path, "model: box\nbox: {nodes: [2, 2, 2], size: [1 mm, 1 mm, 1 mm]}\n"
+                     "wound: {state: healed, bridge_stiffness: 300 kPa/mm, age_rate: 0.5 %/y, age: 80,\n"
+                     "        months: 61 d, heal_time: 4 wk}\n");
+    CHECK(kt_scene_load(path, &s, &e) == KT_OK, "%s", e.msg);
+    double months = 61 * 12 / 365.25, tau = 28 * 12 / 365.25;
+    CHECK_NEAR(s.wound.bridge_stiffness, 0.3, 1e-15, "300 kPa/mm");
+    CHECK_NEAR(s.wound.age_rate, 0.005, 1e-15, "0.5 %/y");
+    CHECK_NEAR(s.wound.months, months, 1e-14, "61 d in months");
+    CHECK_NEAR(kt_scene_wound_k(&s), 0.3 * exp(-0.005 * 20) * (1 - exp(-months / tau)), 1e-14,
+               "k = k_ref exp(-rate (age - 60)) (1 - exp(-months / heal_time))");
+    s.wound.age = NAN;
+    s.unc.age = 45; /* the age_slope age (lri-plan's patient) when wound.age is not given */
+    s.wound.months = NAN;
+    CHECK_NEAR(kt_scene_wound_k(&s), 0.3 * exp(0.005 * 15), 1e-14, "k follows the age_slope age");
+    reject("wound_unit", "model: eye\nwound:\n  bridge_stiffness: 1 MPa\n", 3, 21, "expected a stiffness per area");
+    reject("wound_state", "model: eye\nwound:\n  state: open\n", 3, 10, "expected one of: immediate, healed");
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/kt-scene-XXXXXX");
@@ -267,6 +298,7 @@ int main(void)
     test_bad_scenes();
     test_floor();
     test_on_mesh();
+    test_wound();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);

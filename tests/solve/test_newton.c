@@ -46,7 +46,7 @@ static int beam_make(beam *B, kt_err *e)
     if (kt_grid_box(&B->m, 41, 3, 3, LEN, 1.0, 1.0, e) || kt_mesh_elevate(&B->m, e)) return e->code;
     kt_mesh *m = &B->m;
     B->mat[1] = (kt_material){YOUNG, 0.0};
-    B->mats = (kt_materials){2, B->mat, NULL};
+    B->mats = (kt_materials){2, B->mat, NULL, NULL};
     size_t n = 3 * (size_t)m->nn;
     B->fixed = calloc(n, 1);
     B->w = calloc(n, sizeof(double));

@@ -38,7 +38,7 @@ static double cut_bar(double s)
     kt_fem_problem fp;
     memset(&fp, 0, sizeof fp);
     fp.nn = nn0;
-    fp.mats = (kt_materials){2, mat, &td};
+    fp.mats = (kt_materials){2, mat, &td, NULL};
     fp.fixed = calloc(3 * (size_t)nn0, 1);
     fp.g = calloc(3 * (size_t)nn0, sizeof(double));
     fp.nfix = 2;

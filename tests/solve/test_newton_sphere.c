@@ -151,7 +151,7 @@ static double inflate(double T)
     CHECK(kt_fem_pressure_faces(&m, 1, p, pface, &e) == KT_OK, "%s", e.msg);
     kt_material mat = {YOUNG, NU};
     kt_fem_tetdata td = {m.ne, NULL, NULL, pface};
-    kt_materials mats = {1, &mat, &td};
+    kt_materials mats = {1, &mat, &td, NULL};
     kt_newton_problem prob = {&m, &mats, fixed, NULL, NULL, 1, NULL};
     kt_newton_opts o;
     kt_newton_defaults(&o);
