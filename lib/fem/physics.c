@@ -112,7 +112,7 @@ static double apex_stress(const kt_mesh *m, const kt_physics *ph, kt_err *e)
 {
     int nv = kt_tet_nv(m->order);
     double ztop = -1e300, sum = 0, vol = 0;
-    kt_materials mats = {0, NULL, &ph->td};
+    kt_materials mats = {0, NULL, &ph->td, NULL};
     for (int i = 0; i < m->nn; i++) ztop = fmax(ztop, m->xyz[3 * i + 2]);
     for (int t = 0; t < m->ne && !e->code; t++) {
         const double *x[4];
