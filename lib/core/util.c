@@ -358,7 +358,13 @@ void kt_tool_start(void)
             close(g);
         }
     }
-    kt_blas_pin(); /* the same answer on any machine, and no hang under ulimit -v (blas.h) */
+    kt_blas_pin(); /* the same answer on any machine (blas.h) */
+    if (kt_blas_warm() == KT_BLAS_WARM_NOROOM) {
+        /* a BLAS call would hang (blas.h): end now, with a message */
+        fprintf(stderr, "%s: out of memory: the address space left under the limit (ulimit -v) cannot hold "
+                "the BLAS's %zu MB work buffer\n", program_invocation_short_name, KT_BLAS_BUFFER >> 20);
+        kt_exit(KT_ERUN);
+    }
     /* CHOLMOD's arrays (the factor above all) on transparent huge pages (kt_huge_*), set once
      * before any CHOLMOD call; their free stays the C library's */
     SuiteSparse_config.malloc_func = kt_huge_malloc;
@@ -371,6 +377,50 @@ void kt_tool_start(void)
      * of threads that spin and sleep on a busy 2-core machine */
     omp_set_dynamic(1);
 #endif
+}
+
+/* The bytes of address space left under RLIMIT_AS (SIZE_MAX without a limit). */
+static size_t as_room(void)
+{
+    struct rlimit r;
+    if (getrlimit(RLIMIT_AS, &r) != 0 || r.rlim_cur == RLIM_INFINITY) return SIZE_MAX;
+    FILE *f = fopen("/proc/self/statm", "r");
+    unsigned long pages = 0;
+    int ok = f && fscanf(f, "%lu", &pages) == 1;
+    if (f) fclose(f);
+    if (!ok) return SIZE_MAX;
+    size_t used = (size_t)pages * (size_t)sysconf(_SC_PAGESIZE);
+    return used < r.rlim_cur ? (size_t)r.rlim_cur - used : 0;
+}
+
+/* MemAvailable of /proc/meminfo in bytes (SIZE_MAX when it cannot be read). */
+static size_t mem_available(void)
+{
+    FILE *f = fopen("/proc/meminfo", "r");
+    if (!f) return SIZE_MAX;
+    char line[256];
+    size_t kb = SIZE_MAX;
+    unsigned long v;
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "MemAvailable: %lu kB", &v) == 1) {
+            kb = v;
+            break;
+        }
+    fclose(f);
+    return kb == SIZE_MAX || kb > SIZE_MAX / 1024 ? SIZE_MAX : kb * 1024;
+}
+
+int kt_mem_budget(double bytes, const char *what, kt_err *e)
+{
+    if (!(bytes >= 0)) return kt_fail(e, KT_ERUN, "%s: out of memory: needs an unknown amount", what);
+    size_t as = as_room(), avail = mem_available();
+    if (as != SIZE_MAX && !(bytes <= (double)as))
+        return kt_fail(e, KT_ERUN, "%s: out of memory: needs %.0f MB, the address-space limit (ulimit -v) leaves %.0f MB",
+                       what, bytes / 1048576, (double)as / 1048576);
+    if (avail != SIZE_MAX && !(bytes <= (double)avail))
+        return kt_fail(e, KT_ERUN, "%s: out of memory: needs %.0f MB, the machine has %.0f MB available (MemAvailable)",
+                       what, bytes / 1048576, (double)avail / 1048576);
+    return KT_OK;
 }
 
 void kt_exit(int code)

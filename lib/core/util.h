@@ -75,10 +75,20 @@ int kt_out_open(kt_out *o, const char *path, kt_err *e);
 int kt_out_commit(kt_out *o, kt_err *e);
 void kt_out_abort(kt_out *o);
 
+/* KT_OK when `bytes` more can be allocated and touched: no more than the address space left
+ * under RLIMIT_AS (ulimit -v; the process's size from /proc/self/statm) and no more than the
+ * machine's MemAvailable. Else KT_ERUN, "WHAT: out of memory: needs N MB, ... leaves M MB".
+ * For a block the work cannot go on without (a Cholesky factor, sized exactly by the symbolic
+ * analysis), checked before the work that fills it: the failure is immediate and names the
+ * need, instead of an allocation failing after minutes, or the OOM killer's SIGKILL. */
+int kt_mem_budget(double bytes, const char *what, kt_err *e);
+
 /* At a tool's start: a closed standard stream (0, 1, 2) gets a descriptor on which every
  * read or write fails, so that no file the tool opens takes its number and an output to a
  * closed stdout is an error, not a write into that file. Then the BLAS is pinned to one
- * thread (kt_blas_pin, blas.h): the same answer on any machine, and no hang under ulimit -v.
+ * thread (kt_blas_pin, blas.h): the same answer on any machine; and its work buffer is taken
+ * (kt_blas_warm): no hang under ulimit -v. When the address-space limit cannot hold that
+ * buffer, the tool ends here: "TOOL: out of memory: ..." on stderr, exit 1.
  * CHOLMOD's allocations go through kt_huge_* (SuiteSparse_config's hooks), and its OpenMP
  * regions are bounded by the free cores (omp_set_dynamic). */
 void kt_tool_start(void);
