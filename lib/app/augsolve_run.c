@@ -544,6 +544,9 @@ static int check_inputs(run *r, const kt_aug_run_opts *o, kt_err *e)
         !kt_mesh_find_group(&r->mesh, 3, o->aug.output))
         return kt_fail(e, KT_EINPUT, "--output %s: no surface or region of that name in the mesh",
                        o->aug.output);
+    static const char *const written[] = {"run.yaml", "steps.tsv", "uncertainty.tsv", "step-*.vtk", ".augsolve.lock"};
+    const char *in[] = {o->mesh, o->edits, o->scene ? o->scene : r->rd.h.scene};
+    if (kt_outdir_distinct(o->run_dir, written, 5, in, 3, e)) return e->code;
     if (claim_run_dir(r, o->run_dir, e) || open_tsv(r, o, e) ||
         kt_edits_plan_read(&r->plan, &r->rd, e) ||
         kt_edits_plan_check(&r->plan, r->rd.name, &r->prob, &r->final, e) ||

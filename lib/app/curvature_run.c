@@ -237,9 +237,26 @@ int kt_curvrun_tmp_path(run_ctx *c, char *path, const char *name, kt_err *e)
     return kt_curvrun_join(path, c->tmpdir, name, e);
 }
 
-/* Rename every output into place; then the temporary folder goes. */
+/* No output may replace an input (a step file, the mesh, the plan, --sens, the colour scale). */
+static int outputs_distinct(run_ctx *c, kt_err *e)
+{
+    const char **in = kt_calloc((size_t)c->nstep + 5, sizeof *in, e);
+    if (!in) return e->code;
+    int n = 0;
+    for (int i = 0; i < c->nstep && c->vtk; i++) in[n++] = c->vtk[i];
+    in[n++] = c->mesh, in[n++] = c->plan, in[n++] = c->o->sens, in[n++] = c->o->scale;
+    for (int i = 0; i < c->nfile && !e->code; i++) {
+        char to[PATHMAX];
+        if (kt_curvrun_join(to, c->outdir, c->file[i], e) == KT_OK) kt_out_distinct(to, in, n, e);
+    }
+    free(in);
+    return e->code;
+}
+
+/* Rename every output into place (none of them an input); then the temporary folder goes. */
 static int commit_files(run_ctx *c, kt_err *e)
 {
+    if (outputs_distinct(c, e)) return e->code;
     for (int i = 0; i < c->nfile; i++) {
         char from[PATHMAX], to[PATHMAX];
         if (kt_curvrun_join(from, c->tmpdir, c->file[i], e) || kt_curvrun_join(to, c->outdir, c->file[i], e)) return e->code;

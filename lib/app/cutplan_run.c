@@ -87,7 +87,11 @@ int kt_cutplan_run(const kt_cutplan_opts *o, kt_err *e)
     kt_mesh m = {0};
     kt_incise *c = NULL;
     if (!p || kt_out_check(o->out, e) || (o->mesh_out && kt_out_check(o->mesh_out, e)) ||
-        kt_plan_load(o->plan, p, e) || kt_msh_read(o->mesh, &m, e))
+        kt_plan_load(o->plan, p, e))
+        goto done;
+    const char *in[] = {o->plan, o->mesh, p->scene_path};
+    if (kt_out_distinct(o->out, in, 3, e) || (o->mesh_out && kt_out_distinct(o->mesh_out, in, 3, e)) ||
+        kt_msh_read(o->mesh, &m, e))
         goto done;
     if (kt_plan_check_mesh(p, &m, o->mesh, e)) goto done;
     double t1 = kt_now();

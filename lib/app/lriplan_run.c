@@ -301,6 +301,11 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
         rc = kt_fail(e, KT_EINPUT, "--step %g: expected an angle in (0, max_arc = %g] deg", o->step, a->p.max_arc);
     if (rc == KT_OK) rc = make_scene(o, a, s, base, e);
     if (rc == KT_OK) rc = kt_lri_main_check(&a->p, s, e);
+    if (rc == KT_OK) {
+        /* the plan folder is the run's: none of its inputs may lie in it */
+        const char *in[] = {o->patient, a->p.pentacam_front, a->p.pentacam_back, a->p.pentacam_pachy, base};
+        rc = kt_outdir_distinct(o->outdir, NULL, 0, in, 5, e);
+    }
     if (rc == KT_OK) rc = kt_mkdir_p(o->outdir, e);
     if (rc == KT_OK) rc = join(scene, o->outdir, "scene.yaml", e) || join(mesh, o->outdir, "eye.msh", e) ||
                           join(json, o->outdir, "plan.json", e) ? e->code : KT_OK;

@@ -18,6 +18,7 @@
 #include <string.h>
 #include <dirent.h>
 #include <fcntl.h>
+#include <fnmatch.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
@@ -345,6 +346,58 @@ void kt_out_abort(kt_out *o)
     free(o->tmp);
     free(o->path);
     memset(o, 0, sizeof *o);
+}
+
+static int skip_input(const char *in)
+{
+    return !in || !in[0] || strcmp(in, "-") == 0;
+}
+
+int kt_out_distinct(const char *out, const char *const *in, int n, kt_err *e)
+{
+    struct stat so, si;
+    if (skip_input(out) || stat(out, &so) != 0 || !S_ISREG(so.st_mode)) return KT_OK;
+    for (int i = 0; i < n; i++)
+        if (!skip_input(in[i]) && stat(in[i], &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
+            return kt_fail(e, KT_EINPUT, "%s: the output is the input %s (the same file): refusing to overwrite it", out,
+                           in[i]);
+    return KT_OK;
+}
+
+/* 1 when the folder `dir` (resolved) is the folder d (device and inode). */
+static int same_dir(const char *dir, const struct stat *d)
+{
+    struct stat s;
+    return stat(dir, &s) == 0 && s.st_dev == d->st_dev && s.st_ino == d->st_ino;
+}
+
+int kt_outdir_distinct(const char *dir, const char *const *names, int nnames, const char *const *in, int n,
+                       kt_err *e)
+{
+    struct stat sd;
+    if (stat(dir, &sd) != 0 || !S_ISDIR(sd.st_mode)) return KT_OK; /* made later: holds no input */
+    for (int i = 0; i < n; i++) {
+        char real[PATH_MAX];
+        if (skip_input(in[i]) || !realpath(in[i], real)) continue;
+        char *slash = strrchr(real, '/');
+        const char *base = slash + 1;
+        int hit = 0;
+        if (names) {
+            *slash = '\0';
+            if (same_dir(real[0] ? real : "/", &sd))
+                for (int k = 0; k < nnames && !hit; k++) hit = fnmatch(names[k], base, 0) == 0;
+        } else {
+            while (!hit && slash) { /* every folder above the input, up to the root */
+                *slash = '\0';
+                hit = same_dir(real[0] ? real : "/", &sd);
+                slash = real[0] ? strrchr(real, '/') : NULL;
+            }
+        }
+        if (hit)
+            return kt_fail(e, KT_EINPUT, "%s: the output folder holds the input %s, which this run would %s: refusing",
+                           dir, in[i], names ? "overwrite" : "replace with the folder");
+    }
+    return KT_OK;
 }
 
 void kt_tool_start(void)

@@ -83,6 +83,19 @@ void kt_out_abort(kt_out *o);
  * need, instead of an allocation failing after minutes, or the OOM killer's SIGKILL. */
 int kt_mem_budget(double bytes, const char *what, kt_err *e);
 
+/* An output must not be one of the tool's inputs: writing it would destroy the input (mesh-prep
+ * S.yaml -o S.yaml). kt_out_distinct: KT_EINPUT "OUT: the output is the input IN (the same
+ * file): refusing to overwrite it" when the file `out` and one of the n inputs in[] (NULL
+ * entries and "-" skipped) are one file: the same device and inode, so also through a symbolic
+ * link or a hard link. An output that does not exist yet is no input. kt_outdir_distinct, for a
+ * tool that writes into a folder: KT_EINPUT when an input is a file the tool writes in `dir`,
+ * that is, it lies in `dir` itself (the same device and inode as the folder, its symbolic links
+ * resolved) and its name matches one of the nnames fnmatch(3) patterns names[]; with names NULL
+ * every input anywhere below `dir` is refused (a folder that is replaced whole). */
+int kt_out_distinct(const char *out, const char *const *in, int n, kt_err *e);
+int kt_outdir_distinct(const char *dir, const char *const *names, int nnames, const char *const *in, int n,
+                       kt_err *e);
+
 /* At a tool's start: a closed standard stream (0, 1, 2) gets a descriptor on which every
  * read or write fails, so that no file the tool opens takes its number and an output to a
  * closed stdout is an error, not a write into that file. Then the BLAS is pinned to one
