@@ -405,6 +405,12 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
     if (kt_solver_fallback(r->sv)) yaml_str(out.f, "fallback", kt_solver_fallback(r->sv));
     if (o->steps) yaml_str(out.f, "written_steps", o->steps);
+    if (o->vtk) { /* the step files written, exactly: what curvature reads (augsolve(1), FILES) */
+        fputs("step_files: [", out.f);
+        for (int k = 0, first = 1; k <= r->plan.nsteps; k++)
+            if (r->want[k]) fprintf(out.f, first ? "%d" : ", %d", k), first = 0;
+        fputs("]\n", out.f);
+    }
     if (o->uncertainty) fputs("uncertainty: on\n", out.f);
     if (kt_runrec_write(out.f, o->run_dir, &r->scene, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
