@@ -13,11 +13,14 @@
 #   refused, exit 2, and the input is unchanged (issue 36, item 3): mesh-prep, cutplan -o and
 #   --mesh-out, augsolve (a run folder holding an input it would write), lri-plan (an input
 #   inside the plan folder, which is replaced whole).
+# - A write error stops the run at the first failed file and names it and its cause, ENOSPC as
+#   "disk full" (issue 36, item 6): /dev/full for mesh-prep and cutplan; a tiny tmpfs (mounted
+#   when run as root; skipped otherwise) that holds augsolve's first step files and not the next.
 set -u
 B=$(cd "$1" && pwd)
 cd "$(dirname "$0")/.."
 tmp=$(mktemp -d /tmp/kt_bounds_out_XXXXXX)
-trap 'rm -rf "$tmp"' EXIT
+trap 'umount "$tmp/tiny" 2>/dev/null; rm -rf "$tmp"' EXIT
 fails=0
 fail() { echo "FAIL $*"; fails=$((fails + 1)); }
 
@@ -95,7 +98,7 @@ lost() {
         rc=0
         if [ $how = full ]; then timeout 120 "$@" >/dev/full 2>"$tmp/stderr" || rc=$?
         else timeout 120 "$@" >&- 2>"$tmp/stderr" || rc=$?; fi
-        if [ $rc -eq 1 ] && grep -q "write failed: \(No space left on device\|Bad file descriptor\)" "$tmp/stderr"; then
+        if [ $rc -eq 1 ] && grep -q "write failed: \(disk full (No space left on device)\|Bad file descriptor\)" "$tmp/stderr"; then
             echo "ok   $name, stdout $how: $(tail -1 "$tmp/stderr")"
         else fail "$name, stdout $how: exit $rc"; tail -3 "$tmp/stderr"; fi
     done
@@ -162,6 +165,33 @@ refused "lri-plan with its patient inside the plan folder" "$tmp/run/patient.yam
     cp "$tmp/in/beam.msh" "$tmp/run/eye.msh" &&
     "$B/augsolve" -q --no-vtk "$tmp/run/eye.msh" "$tmp/in/beam.edits" -o "$tmp/run" ||
     fail "augsolve with its mesh in the run folder (not an output) was refused"
+
+# ---- issue 36, item 6: a full disk stops the run, naming the file and "disk full" -----------
+# full NAME PATTERN CMD...: CMD exits 1 with PATTERN on stderr
+full() {
+    local name=$1 pat=$2 rc=0
+    shift 2
+    timeout 60 "$@" >/dev/null 2>"$tmp/stderr" || rc=$?
+    if [ $rc -ne 1 ]; then fail "$name: exit $rc, expected 1"; cat "$tmp/stderr"
+    elif ! grep -q -- "$pat" "$tmp/stderr"; then fail "$name: stderr lacks '$pat'"; cat "$tmp/stderr"
+    else echo "ok   $name: $(tail -1 "$tmp/stderr")"; fi
+}
+if [ -w /dev/full ]; then
+    full "mesh-prep -o /dev/full" "/dev/full: write failed: disk full" "$B/mesh-prep" -q plans/bench/beam-8.yaml -o /dev/full
+    full "cutplan -o /dev/full" "/dev/full: write failed: disk full" \
+        "$B/cutplan" -q plans/bench/cut-beam-8.yaml "$tmp/beam.msh" -o /dev/full
+fi
+mkdir -p "$tmp/tiny"
+if mount -t tmpfs -o size=100k kt-full "$tmp/tiny" 2>/dev/null; then
+    # step-0000.vtk (51 kB) and step-0001.vtk (32 kB) fit, step-0002.vtk does not
+    full "augsolve on a full disk" "run/step-0002.vtk: write failed: disk full (No space left on device)" \
+        "$B/augsolve" -q "$tmp/beam.msh" "$tmp/beam.edits" -o "$tmp/tiny/run"
+    left=$(ls -A "$tmp/tiny/run" | tr '\n' ' ')
+    [ "$left" = "step-0000.vtk step-0001.vtk " ] || fail "augsolve on a full disk left: $left (expected the two whole step files, no temporary, no run.yaml)"
+    umount "$tmp/tiny" || fail "umount $tmp/tiny"
+else
+    echo "skip the full tmpfs: mount needs root"
+fi
 
 if [ $fails -ne 0 ]; then echo "$fails failure(s)"; exit 1; fi
 echo "all output bounds hold"

@@ -47,7 +47,7 @@ static int fit_pentacam(kt_lri_answer *a, kt_err *e)
 {
     kt_patient *p = &a->p;
     kt_pentacam_map m;
-    if (kt_pentacam_read(p->pentacam_front, KT_PENTACAM_ELEVATION, &m, e)) return e->code;
+    if (kt_patient_read_map(p, KT_PF_FRONT, &m, e)) return e->code;
     int rc = kt_surffit_elevation(&m, KT_SURFFIT_ZONE, &a->fit_ant, e);
     if (rc == KT_OK) rc = kt_surffit_halves(&m, &a->fit_ant, &a->halves, e);
     kt_pentacam_free(&m);
@@ -56,7 +56,7 @@ static int fit_pentacam(kt_lri_answer *a, kt_err *e)
     p->ant.r_steep = a->fit_ant.r_steep, p->ant.r_flat = a->fit_ant.r_flat;
     p->ant.axis = a->fit_ant.axis, p->ant.conic = a->fit_ant.conic;
     if (p->pentacam_back[0]) {
-        if (kt_pentacam_read(p->pentacam_back, KT_PENTACAM_ELEVATION, &m, e)) return e->code;
+        if (kt_patient_read_map(p, KT_PF_BACK, &m, e)) return e->code;
         rc = kt_surffit_elevation(&m, KT_SURFFIT_ZONE, &a->fit_post, e);
         kt_pentacam_free(&m);
         if (rc) return rc;
@@ -65,7 +65,7 @@ static int fit_pentacam(kt_lri_answer *a, kt_err *e)
         p->post.axis = a->fit_post.axis, p->post.conic = a->fit_post.conic;
     }
     if (p->pentacam_pachy[0]) {
-        if (kt_pentacam_read(p->pentacam_pachy, KT_PENTACAM_PACHYMETRY, &m, e)) return e->code;
+        if (kt_patient_read_map(p, KT_PF_PACHYMETRY, &m, e)) return e->code;
         double rmax = fmin(p->zone / 2 + 0.5, KT_PENTACAM_HALF);
         rc = kt_surffit_pachymetry(&m, a->fit_ant.ax, a->fit_ant.ay, rmax, &a->fit_pachy, e);
         kt_pentacam_free(&m);
@@ -75,10 +75,7 @@ static int fit_pentacam(kt_lri_answer *a, kt_err *e)
         if (isnan(p->t_zone)) p->t_zone = kt_pachyfit_at(&a->fit_pachy, p->zone / 2);
     }
     a->fitted = 1;
-    if (!(p->ant.r_steep > 5 && p->ant.r_flat < 12))
-        return kt_fail(e, KT_EINPUT, "%s: the fitted anterior radii %.3f / %.3f mm are not a cornea's", p->pentacam_front,
-                       p->ant.r_steep, p->ant.r_flat);
-    return KT_OK;
+    return kt_patient_check_fit(p, a->fit_post_ok, a->fit_pachy_ok, e);
 }
 
 /* The halves of the steep meridian: which is steeper and the ratio of their astigmatism (the
@@ -100,8 +97,8 @@ static int blade(kt_lri_answer *a, kt_err *e)
     a->t_zone = isnan(p->t_zone) ? kt_patient_model_zone_thickness(p) : p->t_zone;
     a->blade = p->depth_fraction > 0 ? p->depth_fraction * a->t_zone : p->depth;
     if (!(a->blade <= KT_PATIENT_DEPTH_MAX * a->t_zone + 1e-12))
-        return kt_fail(e, KT_EINPUT, "%s: constraints.depth: expected at most %g%% of the pachymetry at the zone (%.0f um), got %.0f um",
-                       p->path, 100 * KT_PATIENT_DEPTH_MAX, 1000 * KT_PATIENT_DEPTH_MAX * a->t_zone, 1000 * a->blade);
+        return kt_patient_fail(p, e, KT_PF_DEPTH, KT_PF_PACHYMETRY, "expected at most %g%% of the pachymetry at the zone (%.0f um), got %.0f um",
+                               100 * KT_PATIENT_DEPTH_MAX, 1000 * KT_PATIENT_DEPTH_MAX * a->t_zone, 1000 * a->blade);
     return KT_OK;
 }
 
@@ -152,10 +149,8 @@ static int write_plan(const kt_lriplan_opts *o, const kt_lri_answer *a, const kt
     fprintf(out.f, "    position: {surface: incision-ring-1}\n    paired: %s\n    direction: centre-out\n",
             paired ? "true" : "false");
     fprintf(out.f, "progression: {degrees_per_step: %.17g deg}\n", o->step);
-    if (kt_lri_main_plan(out.f, p, s) || ferror(out.f)) {
-        kt_out_abort(&out);
-        return kt_fail(e, KT_ERUN, "%s: write failed", path);
-    }
+    if (kt_lri_main_plan(out.f, p, s) && !kt_out_failed(&out, e)) kt_fail(e, KT_ERUN, "%s: write failed", path);
+    if (e->code) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
 }
 

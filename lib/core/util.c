@@ -238,6 +238,81 @@ static void target_of(const char *path, char *real)
     }
 }
 
+const char *kt_io_cause(int err)
+{
+    if (err == ENOSPC) return "disk full (No space left on device)";
+    if (err == EDQUOT) return "disk full (Disk quota exceeded)";
+    if (err == EFBIG) return "file too large (File too large)";
+    return strerror(err);
+}
+
+/* The stream under a kt_out: its descriptor, and the first write error. A write after one has
+ * failed fails at once, so the rest of a file is not attempted. */
+struct kt_out_sink {
+    int fd;
+    int err;
+};
+
+static ssize_t sink_write(void *cookie, const char *buf, size_t n)
+{
+    struct kt_out_sink *s = cookie;
+    if (s->err) {
+        errno = s->err;
+        return -1;
+    }
+    size_t done = 0;
+    while (done < n) {
+        ssize_t w = write(s->fd, buf + done, n - done);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) {
+            s->err = w < 0 ? errno : EIO;
+            errno = s->err;
+            return done ? (ssize_t)done : -1;
+        }
+        done += (size_t)w;
+    }
+    return (ssize_t)n;
+}
+
+static int sink_close(void *cookie)
+{
+    struct kt_out_sink *s = cookie;
+    int rc = s->fd >= 0 ? close(s->fd) : 0;
+    if (rc != 0 && !s->err) s->err = errno;
+    s->fd = -1;
+    return rc;
+}
+
+/* o->f over fd, through a sink (o->sink) that keeps the first write error; fd is closed on
+ * failure. */
+static int sink_open(kt_out *o, int fd, const char *path, kt_err *e)
+{
+    o->sink = kt_calloc(1, sizeof *o->sink, e);
+    if (!o->sink) {
+        close(fd);
+        return e->code;
+    }
+    o->sink->fd = fd;
+    cookie_io_functions_t io = {NULL, sink_write, NULL, sink_close};
+    o->f = fopencookie(o->sink, "w", io);
+    if (!o->f) {
+        close(fd);
+        free(o->sink);
+        o->sink = NULL;
+        return kt_fail(e, KT_ERUN, "%s: cannot open a stream: %s", path, strerror(errno));
+    }
+    setvbuf(o->f, NULL, _IOFBF, 1 << 16);
+    return KT_OK;
+}
+
+int kt_out_failed(const kt_out *o, kt_err *e)
+{
+    if (!o->f || !ferror(o->f)) return KT_OK;
+    int err = o->sink && o->sink->err ? o->sink->err : EIO;
+    return kt_fail(e, KT_ERUN, "%s: write failed: %s", o->is_stdout ? "<stdout>" : o->path ? o->path : "?",
+                   kt_io_cause(err));
+}
+
 int kt_out_check(const char *path, kt_err *e)
 {
     if (strcmp(path, "-") == 0) return KT_OK;
@@ -265,10 +340,13 @@ int kt_out_open(kt_out *o, const char *path, kt_err *e)
         /* A device or FIFO is written to as it is: renaming a file over it would replace it. */
         int fd = open(path, O_WRONLY | O_NOCTTY);
         if (fd < 0) return kt_fail(e, KT_EINPUT, "%s: cannot open the output: %s", path, strerror(errno));
-        o->f = fdopen(fd, "wb");
-        if (!o->f) {
+        if (!(o->path = kt_strdup(path, e))) {
             close(fd);
-            return kt_fail(e, KT_ERUN, "%s: fdopen failed", path);
+            return e->code;
+        }
+        if (sink_open(o, fd, path, e)) {
+            kt_out_abort(o);
+            return e->code;
         }
         o->direct = 1;
         return KT_OK;
@@ -296,11 +374,9 @@ int kt_out_open(kt_out *o, const char *path, kt_err *e)
         return kt_fail(e, KT_EINPUT, "%s: cannot create output file: %s", path, strerror(err));
     }
     fchmod(fd, 0644);
-    o->f = fdopen(fd, "wb");
-    if (!o->f) {
-        close(fd);
+    if (sink_open(o, fd, path, e)) {
         kt_out_abort(o);
-        return kt_fail(e, KT_ERUN, "%s: fdopen failed", path);
+        return e->code;
     }
     return KT_OK;
 }
@@ -308,34 +384,37 @@ int kt_out_open(kt_out *o, const char *path, kt_err *e)
 int kt_out_commit(kt_out *o, kt_err *e)
 {
     if (o->is_stdout) {
+        errno = 0;
         if (fflush(stdout) != 0 || ferror(stdout))
-            return kt_fail(e, KT_ERUN, "<stdout>: write failed");
+            return kt_fail(e, KT_ERUN, "<stdout>: write failed%s%s", errno ? ": " : "", errno ? kt_io_cause(errno) : "");
         o->f = NULL;
         return KT_OK;
     }
-    int bad = ferror(o->f) != 0, err = bad ? EIO : 0;
-    if (fclose(o->f) != 0) {
-        bad = 1;
-        err = errno;
-    }
+    int bad = ferror(o->f) != 0;
+    if (fclose(o->f) != 0) bad = 1;
     o->f = NULL;
     if (bad) {
-        kt_fail(e, KT_ERUN, "%s: write failed: %s", o->path, strerror(err));
+        int err = o->sink && o->sink->err ? o->sink->err : EIO;
+        kt_fail(e, KT_ERUN, "%s: write failed: %s", o->path, kt_io_cause(err));
         kt_out_abort(o);
         return e->code;
     }
     if (o->direct) {
+        free(o->path);
+        free(o->sink);
         memset(o, 0, sizeof *o);
         return KT_OK;
     }
     if (rename(o->tmp, o->path) != 0) {
-        err = errno;
+        kt_fail(e, KT_ERUN, "%s: cannot rename the output into place: %s", o->path, kt_io_cause(errno));
         kt_out_abort(o);
-        return kt_fail(e, KT_ERUN, "cannot rename output into place: %s", strerror(err));
+        return e->code;
     }
     free(o->tmp);
     free(o->path);
+    free(o->sink);
     o->tmp = o->path = NULL;
+    o->sink = NULL;
     return KT_OK;
 }
 
@@ -345,6 +424,7 @@ void kt_out_abort(kt_out *o)
     if (o->tmp) unlink(o->tmp);
     free(o->tmp);
     free(o->path);
+    free(o->sink);
     memset(o, 0, sizeof *o);
 }
 
@@ -493,7 +573,7 @@ int kt_stdout_done(const char *tool)
     int err = errno;
     if (fclose(stdout) != 0 && !bad) bad = 1, err = errno;
     if (!bad) return KT_OK;
-    fprintf(stderr, "%s: <stdout>: write failed: %s\n", tool, err ? strerror(err) : "output lost");
+    fprintf(stderr, "%s: <stdout>: write failed: %s\n", tool, err ? kt_io_cause(err) : "output lost");
     return KT_ERUN;
 }
 

@@ -66,6 +66,7 @@ typedef struct kt_out {
     FILE *f;
     char *path, *tmp;
     int is_stdout, direct;
+    struct kt_out_sink *sink; /* the descriptor under f and the first write error (util.c) */
 } kt_out;
 
 /* KT_OK when path can be an output target (it is not a directory, and a device or FIFO there
@@ -74,6 +75,15 @@ int kt_out_check(const char *path, kt_err *e);
 int kt_out_open(kt_out *o, const char *path, kt_err *e);
 int kt_out_commit(kt_out *o, kt_err *e);
 void kt_out_abort(kt_out *o);
+/* Write errors: the first failed write(2) under o->f is kept with its errno, and every later
+ * write fails at once (the stream's error flag is set: a writer that checks ferror stops; one
+ * that does not costs no more disk). kt_out_failed: KT_OK while nothing failed, else KT_ERUN
+ * recorded as "PATH: write failed: CAUSE" (kt_io_cause), the output left open for
+ * kt_out_abort. kt_out_commit reports the same way, naming the file. */
+int kt_out_failed(const kt_out *o, kt_err *e);
+/* The cause of an I/O errno in words: ENOSPC and EDQUOT "disk full (No space left on device)",
+ * EFBIG "file too large (...)", else strerror. */
+const char *kt_io_cause(int err);
 
 /* KT_OK when `bytes` more can be allocated and touched: no more than the address space left
  * under RLIMIT_AS (ulimit -v; the process's size from /proc/self/statm) and no more than the
