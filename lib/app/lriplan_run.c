@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "lriplan_run.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,7 @@
 #include <unistd.h>
 
 #include "augsolve_run.h"
+#include "outdir.h"
 #include "curvature_run.h"
 #include "cutplan_run.h"
 #include "lriplan_int.h"
@@ -283,7 +285,7 @@ static int chosen_report(const kt_lriplan_opts *o, const kt_lri_answer *a, const
     return rc;
 }
 
-int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
+static int run_plan(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
 {
     kt_lri_answer *a = kt_calloc(1, sizeof *a, e);
     if (!a) return e->code;
@@ -296,11 +298,6 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
         rc = kt_fail(e, KT_EINPUT, "--step %g: expected an angle in (0, max_arc = %g] deg", o->step, a->p.max_arc);
     if (rc == KT_OK) rc = make_scene(o, a, s, base, e);
     if (rc == KT_OK) rc = kt_lri_main_check(&a->p, s, e);
-    if (rc == KT_OK) {
-        /* the plan folder is the run's: none of its inputs may lie in it */
-        const char *in[] = {o->patient, a->p.pentacam_front, a->p.pentacam_back, a->p.pentacam_pachy, base};
-        rc = kt_outdir_distinct(o->outdir, NULL, 0, in, 5, e);
-    }
     if (rc == KT_OK) rc = kt_mkdir_p(o->outdir, e);
     if (rc == KT_OK) rc = join(scene, o->outdir, "scene.yaml", e) || join(mesh, o->outdir, "eye.msh", e) ||
                           join(json, o->outdir, "plan.json", e) ? e->code : KT_OK;
@@ -341,5 +338,51 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
     if (rc == KT_OK) rc = join(html, o->outdir, "plan.html", e) || kt_lri_write_html(a, o, report, html, e) ? e->code : KT_OK;
     if (rc == KT_OK && summary) kt_lri_summary(a, o, summary);
     free(a), free(s);
+    return rc;
+}
+
+/* The patient file loads, and none of the run's inputs lies in the plan folder, which is
+ * replaced whole (the patient, its maps, --base). */
+static int inputs_outside(const kt_lriplan_opts *o, kt_err *e)
+{
+    kt_patient *p = kt_calloc(1, sizeof *p, e);
+    if (!p) return e->code;
+    /* a patient file that does not load is refused here, before the plan folder is touched */
+    int rc = kt_patient_load(o->patient, p, e);
+    const char *in[] = {o->patient, p->pentacam_front, p->pentacam_back, p->pentacam_pachy, o->base};
+    if (rc == KT_OK) rc = kt_outdir_distinct(o->outdir, NULL, 0, in, 5, e);
+    free(p);
+    return rc;
+}
+
+/* The plan folder as a unit (kt_outdir, lib/core/outdir.h): locked, the run written into a
+ * temporary folder beside it (its earlier plan removed first), renamed into place when whole;
+ * the summary printed only then, naming PLAN_DIR. */
+int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
+{
+    if (inputs_outside(o, e)) return e->code;
+    kt_outdir d;
+    if (kt_outdir_begin(&d, o->outdir, e)) return e->code;
+    kt_lriplan_opts w = *o;
+    w.outdir = d.tmp;
+    char *text = NULL;
+    size_t len = 0;
+    FILE *mem = summary ? open_memstream(&text, &len) : NULL;
+    int rc = summary && !mem ? kt_fail(e, KT_ERUN, "cannot hold the summary: %s", strerror(errno)) : KT_OK;
+    if (rc == KT_OK) rc = run_plan(&w, mem, e);
+    if (mem && fclose(mem) != 0 && rc == KT_OK) rc = kt_fail(e, KT_ERUN, "cannot hold the summary");
+    char tmp[PATHLEN], dir[PATHLEN];
+    snprintf(tmp, sizeof tmp, "%s", d.tmp), snprintf(dir, sizeof dir, "%s", d.path);
+    if (rc == KT_OK) rc = kt_outdir_commit(&d, e);
+    else kt_outdir_abort(&d);
+    size_t lt = strlen(tmp);
+    for (char *t = text, *hit; rc == KT_OK && t && *t; t = hit + lt) { /* the temporary's name is PLAN_DIR's */
+        if (!(hit = strstr(t, tmp))) {
+            fputs(t, summary);
+            break;
+        }
+        fprintf(summary, "%.*s%s", (int)(hit - t), t, dir);
+    }
+    free(text);
     return rc;
 }
