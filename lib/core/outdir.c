@@ -13,7 +13,7 @@
 #include <string.h>
 #include <sys/file.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 /* The temporary folder a signal must remove: the one piece of process-wide state here (a
@@ -38,21 +38,46 @@ static int rm_tree(const char *path)
     return nftw(path, rm_one, 16, FTW_DEPTH | FTW_PHYS);
 }
 
-/* On SIGINT, SIGTERM, SIGHUP: the temporary folder removed by /bin/rm in a child (fork, execve
- * and waitpid are async-signal-safe; a directory walk is not), the lock file unlinked, then the
+/* rm -rf of the folder `name` in the folder dfd with system calls alone (openat, getdents64,
+ * unlinkat, close: async-signal-safe; opendir, nftw, malloc and fork are not: a signal that
+ * arrives inside malloc would deadlock them). Depth-first, at most 16 levels, fixed buffers. */
+static int rm_tree_sig(int dfd, const char *name, int depth)
+{
+    if (unlinkat(dfd, name, 0) == 0) return 0;
+    if (depth > 16) return -1;
+    int fd = openat(dfd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) return -1;
+    char buf[4096];
+    for (;;) {
+        long n = syscall(SYS_getdents64, fd, buf, sizeof buf);
+        if (n <= 0) break;
+        int removed = 0;
+        for (long off = 0; off < n;) {
+            struct linux_dirent64_kt {
+                unsigned long long d_ino;
+                long long d_off;
+                unsigned short d_reclen;
+                unsigned char d_type;
+                char d_name[];
+            } *de = (void *)(buf + off);
+            off += de->d_reclen;
+            if (strcmp(de->d_name, ".") == 0 || strcmp(de->d_name, "..") == 0) continue;
+            int gone = de->d_type == DT_DIR ? rm_tree_sig(fd, de->d_name, depth + 1) == 0
+                                            : unlinkat(fd, de->d_name, 0) == 0;
+            removed += gone;
+        }
+        if (!removed) break;     /* nothing more can go */
+        lseek(fd, 0, SEEK_SET); /* the listing changed under us: read it again */
+    }
+    close(fd);
+    return unlinkat(dfd, name, AT_REMOVEDIR);
+}
+
+/* On SIGINT, SIGTERM, SIGHUP: the temporary folder and the lock file removed, then the
  * signal's default action. */
 static void on_signal(int sig)
 {
-    if (sig_tmp[0]) {
-        pid_t pid = fork();
-        if (pid == 0) {
-            char *const argv[] = {"rm", "-rf", "--", sig_tmp, NULL};
-            char *const envp[] = {NULL};
-            execve("/bin/rm", argv, envp);
-            _exit(127);
-        }
-        if (pid > 0) waitpid(pid, NULL, 0);
-    }
+    if (sig_tmp[0]) rm_tree_sig(AT_FDCWD, sig_tmp, 0);
     if (sig_lock[0]) unlink(sig_lock);
     signal(sig, SIG_DFL);
     raise(sig);
