@@ -47,9 +47,18 @@ static void print_answer(const kt_nomo_answer *a)
     printf("%d\t%.1f\t%.2f\t%.2f\t%s", a->incisions, a->arc, a->sia,
            a->residual < 0.005 ? 0.0 : a->residual, axis);
     print_sd(a->sia_sd), print_sd(a->residual_sd), print_sd(a->residual_lo90), print_sd(a->residual_hi90);
-    printf("\t%g-%g\t%g-%g\t%s\n", a->arc_lo, a->arc_hi, a->age_lo, a->age_hi,
+    printf("\t%g-%g\t%g-%g\t%s\t", a->arc_lo, a->arc_hi, a->age_lo, a->age_hi,
            a->reached ? (a->arc_lo == a->arc_hi ? "simulated arc" : "interpolated")
                       : "under-corrects: the longest simulated arc");
+    /* the table's lines used: the lower age's eye, then the higher age's (lri-nomogram(1)) */
+    for (int g = 0; g < 2; g++) {
+        int r0 = a->rows[g][0], r1 = a->rows[g][1];
+        if (g) putchar(';');
+        if (r0 && r1 && r0 != r1) printf("%d,%d", r0, r1);
+        else if (r0 || r1) printf("%d", r0 ? r0 : r1);
+        else printf("-");
+    }
+    putchar('\n');
 }
 
 static int tool_main(int argc, char **argv)
@@ -199,7 +208,7 @@ static int tool_main(int argc, char **argv)
         printf("# band: the SIA's first-order sd of the simulated cases (tissue quantities only: "
                "lri-nomogram(1), BAND) and the residual's 90%% interval\n");
     printf("incisions\tarc_deg\tsia_D\tresidual_D\tresidual_axis_deg\tsia_sd_D\tresidual_sd_D"
-           "\tresidual_lo90_D\tresidual_hi90_D\tbetween_arcs_deg\tages_y\tnote\n");
+           "\tresidual_lo90_D\tresidual_hi90_D\tbetween_arcs_deg\tages_y\tnote\ttable_lines\n");
     for (int i = 0; i < 2; i++)
         if (ans[i].incisions) print_answer(&ans[i]);
     return kt_stdout_done("lri-nomogram");

@@ -4,6 +4,10 @@
 # OpenBLAS threads, a worker thread whose buffer allocation fails retries it for ever: mesh-prep
 # then printed "CHOLMOD symbolic analysis failed" and hung in OpenBLAS's destructor at exit,
 # or hung in the BLAS call. `timeout` turns such a hang into a failure of this test.
+# Since issue 36: every tool takes OpenBLAS's 128 MB buffer at its start (kt_blas_warm, blas.h),
+# refusing to start ("cannot hold the BLAS's ... buffer") when the limit leaves no room for it,
+# and checks a factor's size from CHOLMOD's analysis against the room left before factoring
+# ("needs N MB, ... leaves M MB"); lri-plan on a shipped patient under 700 MB ends with exit 1.
 set -u
 B=$(cd "$1" && pwd)
 cd "$(dirname "$0")/.."
@@ -40,10 +44,24 @@ grep -q "CHOLMOD\|out of memory" "$tmp/stderr" || { echo "FAIL: no CHOLMOD or me
 "$B/cutplan" -q plans/bench/cut-brick-20.yaml "$tmp/brick.msh" -o "$tmp/brick.edits" 2>/dev/null ||
     OPENBLAS_NUM_THREADS=1 "$B/mesh-prep" -q plans/bench/brick-20.yaml -o "$tmp/brick.msh" >/dev/null
 "$B/cutplan" -q plans/bench/cut-brick-20.yaml "$tmp/brick.msh" -o "$tmp/brick.edits" || { echo "FAIL cutplan"; exit 1; }
-for limit in 250000 400000; do
+for limit in 400000 900000; do
     ends "augsolve in $((limit / 1000)) MB" $limit "0 1" \
         "$B/augsolve" -q --no-vtk "$tmp/brick.msh" "$tmp/brick.edits" -o "$tmp/run-$limit"
 done
+# too small for the BLAS's buffer beside two OpenBLAS threads: refused at the start, exit 1
+ends "augsolve in 250 MB: refused at its start" 250000 "1" \
+    "$B/augsolve" -q --no-vtk "$tmp/brick.msh" "$tmp/brick.edits" -o "$tmp/run-start"
+grep -q "cannot hold the BLAS's 128 MB work buffer" "$tmp/stderr" || { echo "FAIL: no BLAS buffer message"; fails=$((fails + 1)); }
+# room for the buffer, not for the planned factor (350 MB): refused before factoring, saying so
+ends "augsolve in 700 MB: the factor's budget" 700000 "1" \
+    "$B/augsolve" -q --no-vtk "$tmp/brick.msh" "$tmp/brick.edits" -o "$tmp/run-budget"
+grep -q "Cholesky factor: out of memory: needs [0-9]* MB, the address-space limit (ulimit -v) leaves [0-9]* MB" "$tmp/stderr" ||
+    { echo "FAIL: no factor budget message"; fails=$((fails + 1)); }
+[ ! -e "$tmp/run-budget/run.yaml" ] || { echo "FAIL: a refused run wrote run.yaml"; fails=$((fails + 1)); }
+# lri-plan on a shipped patient (--fast: the suite's time) under 700 MB: exit 1, a message
+ends "lri-plan --fast wtr-od in 700 MB" 700000 "1" \
+    "$B/lri-plan" -q --fast plans/patients/wtr-od.yaml -o "$tmp/plan"
+grep -q "out of memory" "$tmp/stderr" || { echo "FAIL: lri-plan: no out-of-memory message"; fails=$((fails + 1)); }
 
 if [ $fails -ne 0 ]; then echo "$fails failure(s)"; exit 1; fi
 echo "every run ended under the memory limit"

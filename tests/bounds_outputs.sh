@@ -9,11 +9,18 @@
 # - A full or closed stdout is exit 1 with a message, for every tool that writes to it.
 # - Temporaries of killed runs (NAME.tmp.HOST.PID.XXXXXX of a dead PID) are removed by the next
 #   run; a live process's and another name's are left alone.
+# - An output that names an input (the same file, also through a symbolic or a hard link) is
+#   refused, exit 2, and the input is unchanged (issue 36, item 3): mesh-prep, cutplan -o and
+#   --mesh-out, augsolve (a run folder holding an input it would write), lri-plan (an input
+#   inside the plan folder, which is replaced whole).
+# - A write error stops the run at the first failed file and names it and its cause, ENOSPC as
+#   "disk full" (issue 36, item 6): /dev/full for mesh-prep and cutplan; a tiny tmpfs (mounted
+#   when run as root; skipped otherwise) that holds augsolve's first step files and not the next.
 set -u
 B=$(cd "$1" && pwd)
 cd "$(dirname "$0")/.."
 tmp=$(mktemp -d /tmp/kt_bounds_out_XXXXXX)
-trap 'rm -rf "$tmp"' EXIT
+trap 'umount "$tmp/tiny" 2>/dev/null; rm -rf "$tmp"' EXIT
 fails=0
 fail() { echo "FAIL $*"; fails=$((fails + 1)); }
 
@@ -91,7 +98,7 @@ lost() {
         rc=0
         if [ $how = full ]; then timeout 120 "$@" >/dev/full 2>"$tmp/stderr" || rc=$?
         else timeout 120 "$@" >&- 2>"$tmp/stderr" || rc=$?; fi
-        if [ $rc -eq 1 ] && grep -q "write failed: \(No space left on device\|Bad file descriptor\)" "$tmp/stderr"; then
+        if [ $rc -eq 1 ] && grep -q "write failed: \(disk full (No space left on device)\|Bad file descriptor\)" "$tmp/stderr"; then
             echo "ok   $name, stdout $how: $(tail -1 "$tmp/stderr")"
         else fail "$name, stdout $how: exit $rc"; tail -3 "$tmp/stderr"; fi
     done
@@ -121,6 +128,70 @@ for f in "$stale" "$live" "$other" "$elsewhere"; do echo partial >"$f"; done
 if [ ! -e "$stale" ] && [ -e "$live" ] && [ -e "$other" ] && [ -e "$elsewhere" ] && [ -s "$tmp/clean.msh" ]; then
     echo "ok   a dead run's temporary removed; a live one, another target's and another host's kept"
 else fail "temporaries: $(ls "$tmp" | grep '\.tmp\.' | tr '\n' ' ')"; fi
+
+# ---- issue 36, item 3: no output over an input ----------------------------------------------
+# refused NAME FILE CMD...: CMD exits 2 with "refusing" on stderr and FILE keeps its bytes
+refused() {
+    local name=$1 file=$2 rc=0 sum
+    shift 2
+    sum=$(md5sum <"$file")
+    timeout 60 "$@" >/dev/null 2>"$tmp/stderr" || rc=$?
+    if [ $rc -ne 2 ]; then fail "$name: exit $rc, expected 2"; cat "$tmp/stderr"
+    elif ! grep -q "refusing" "$tmp/stderr"; then fail "$name: no refusal message"; cat "$tmp/stderr"
+    elif [ "$(md5sum <"$file")" != "$sum" ]; then fail "$name: $file changed"
+    else echo "ok   $name: $(head -1 "$tmp/stderr")"; fi
+}
+mkdir -p "$tmp/in"
+cp plans/bench/beam-8.yaml plans/bench/cut-beam-8.yaml "$tmp/in/"
+cp "$tmp/beam.msh" "$tmp/beam.edits" "$tmp/in/"
+ln -s beam-8.yaml "$tmp/in/link.yaml"
+ln "$tmp/in/beam-8.yaml" "$tmp/in/hard.yaml"
+refused "mesh-prep S.yaml -o S.yaml" "$tmp/in/beam-8.yaml" "$B/mesh-prep" -q "$tmp/in/beam-8.yaml" -o "$tmp/in/beam-8.yaml"
+refused "mesh-prep -o a symbolic link to the scene" "$tmp/in/beam-8.yaml" "$B/mesh-prep" -q "$tmp/in/beam-8.yaml" -o "$tmp/in/link.yaml"
+refused "mesh-prep -o a hard link to the scene" "$tmp/in/beam-8.yaml" "$B/mesh-prep" -q "$tmp/in/beam-8.yaml" -o "$tmp/in/hard.yaml"
+refused "cutplan P M -o M" "$tmp/in/beam.msh" "$B/cutplan" -q "$tmp/in/cut-beam-8.yaml" "$tmp/in/beam.msh" -o "$tmp/in/beam.msh"
+refused "cutplan -o the plan" "$tmp/in/cut-beam-8.yaml" "$B/cutplan" -q "$tmp/in/cut-beam-8.yaml" "$tmp/in/beam.msh" -o "$tmp/in/cut-beam-8.yaml"
+refused "cutplan --mesh-out the plan's scene" "$tmp/in/beam-8.yaml" \
+    "$B/cutplan" -q "$tmp/in/cut-beam-8.yaml" "$tmp/in/beam.msh" -o "$tmp/in/x.edits" --mesh-out "$tmp/in/beam-8.yaml"
+mkdir -p "$tmp/run"
+cp "$tmp/beam.msh" "$tmp/run/step-0001.vtk"
+refused "augsolve with an input named like its step file" "$tmp/run/step-0001.vtk" \
+    "$B/augsolve" -q "$tmp/run/step-0001.vtk" "$tmp/in/beam.edits" -o "$tmp/run"
+cp plans/patients/wtr-od.yaml "$tmp/run/patient.yaml"
+refused "lri-plan with its patient inside the plan folder" "$tmp/run/patient.yaml" \
+    "$B/lri-plan" -q "$tmp/run/patient.yaml" -o "$tmp"
+# the mesh in its run folder (scripts/demo.sh's layout) is no output of augsolve: it runs
+"$B/cutplan" -q "$tmp/in/cut-beam-8.yaml" "$tmp/in/beam.msh" -o "$tmp/in/beam.edits" &&
+    cp "$tmp/in/beam.msh" "$tmp/run/eye.msh" &&
+    "$B/augsolve" -q --no-vtk "$tmp/run/eye.msh" "$tmp/in/beam.edits" -o "$tmp/run" ||
+    fail "augsolve with its mesh in the run folder (not an output) was refused"
+
+# ---- issue 36, item 6: a full disk stops the run, naming the file and "disk full" -----------
+# full NAME PATTERN CMD...: CMD exits 1 with PATTERN on stderr
+full() {
+    local name=$1 pat=$2 rc=0
+    shift 2
+    timeout 60 "$@" >/dev/null 2>"$tmp/stderr" || rc=$?
+    if [ $rc -ne 1 ]; then fail "$name: exit $rc, expected 1"; cat "$tmp/stderr"
+    elif ! grep -q -- "$pat" "$tmp/stderr"; then fail "$name: stderr lacks '$pat'"; cat "$tmp/stderr"
+    else echo "ok   $name: $(tail -1 "$tmp/stderr")"; fi
+}
+if [ -w /dev/full ]; then
+    full "mesh-prep -o /dev/full" "/dev/full: write failed: disk full" "$B/mesh-prep" -q plans/bench/beam-8.yaml -o /dev/full
+    full "cutplan -o /dev/full" "/dev/full: write failed: disk full" \
+        "$B/cutplan" -q plans/bench/cut-beam-8.yaml "$tmp/beam.msh" -o /dev/full
+fi
+mkdir -p "$tmp/tiny"
+if mount -t tmpfs -o size=100k kt-full "$tmp/tiny" 2>/dev/null; then
+    # step-0000.vtk (51 kB) and step-0001.vtk (32 kB) fit, step-0002.vtk does not
+    full "augsolve on a full disk" "run/step-0002.vtk: write failed: disk full (No space left on device)" \
+        "$B/augsolve" -q "$tmp/beam.msh" "$tmp/beam.edits" -o "$tmp/tiny/run"
+    left=$(ls -A "$tmp/tiny/run" | tr '\n' ' ')
+    [ "$left" = "step-0000.vtk step-0001.vtk " ] || fail "augsolve on a full disk left: $left (expected the two whole step files, no temporary, no run.yaml)"
+    umount "$tmp/tiny" || fail "umount $tmp/tiny"
+else
+    echo "skip the full tmpfs: mount needs root"
+fi
 
 if [ $fails -ne 0 ]; then echo "$fails failure(s)"; exit 1; fi
 echo "all output bounds hold"

@@ -425,6 +425,12 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
     if (kt_solver_fallback(r->sv)) yaml_str(out.f, "fallback", kt_solver_fallback(r->sv));
     if (o->steps) yaml_str(out.f, "written_steps", o->steps);
+    if (o->vtk) { /* the step files written, exactly: what curvature reads (augsolve(1), FILES) */
+        fputs("step_files: [", out.f);
+        for (int k = 0, first = 1; k <= r->plan.nsteps; k++)
+            if (r->want[k]) fprintf(out.f, first ? "%d" : ", %d", k), first = 0;
+        fputs("]\n", out.f);
+    }
     if (o->uncertainty) fputs("uncertainty: on\n", out.f);
     if (kt_runrec_write(out.f, o->run_dir, &r->scene, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
@@ -565,6 +571,9 @@ static int check_inputs(run *r, const kt_aug_run_opts *o, kt_err *e)
         !kt_mesh_find_group(&r->mesh, 3, o->aug.output))
         return kt_fail(e, KT_EINPUT, "--output %s: no surface or region of that name in the mesh",
                        o->aug.output);
+    static const char *const written[] = {"run.yaml", "steps.tsv", "uncertainty.tsv", "step-*.vtk", ".augsolve.lock"};
+    const char *in[] = {o->mesh, o->edits, o->scene ? o->scene : r->rd.h.scene};
+    if (kt_outdir_distinct(o->run_dir, written, 5, in, 3, e)) return e->code;
     if (claim_run_dir(r, o->run_dir, e) || open_tsv(r, o, e) ||
         kt_edits_plan_read(&r->plan, &r->rd, e) ||
         kt_edits_plan_check(&r->plan, r->rd.name, &r->prob, &r->final, e) ||

@@ -208,7 +208,7 @@ int kt_curv_compare(const char *run_a, const char *run_b, const char *outdir, kt
         kt_out o;
         if ((rc = kt_out_open(&o, path, e)) == KT_OK) {
             rc = page(o.f, r, e);
-            if (rc == KT_OK && ferror(o.f)) rc = kt_fail(e, KT_ERUN, "%s: write error", path);
+            if (rc == KT_OK) rc = kt_out_failed(&o, e);
             if (rc == KT_OK) rc = kt_out_commit(&o, e);
             else kt_out_abort(&o);
         }

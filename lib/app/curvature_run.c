@@ -83,8 +83,25 @@ static int yml_hash(kt_yml *y, yaml_node_t *root, const char *key, int required,
     return KT_OK;
 }
 
+/* run.yaml's step_files: the step numbers whose files the run wrote, 0 first, increasing, none
+ * beyond steps: (declared); into c->num, c->nstep. */
+static int read_step_files(run_ctx *c, kt_yml *y, yaml_node_t *n, int declared, kt_err *e)
+{
+    int len = kt_yml_seq_len(n);
+    if (kt_yml_check_seq(y, n, "step_files", 1, declared + 1, e)) return e->code;
+    if (!(c->num = kt_calloc((size_t)len, sizeof(int), e))) return e->code;
+    for (int i = 0; i < len; i++) {
+        yaml_node_t *it = kt_yml_seq_item(y, n, i);
+        if (kt_yml_int(y, it, "step_files", i ? c->num[i - 1] + 1 : 0, i ? declared : 0, &c->num[i], e))
+            return e->code;
+    }
+    c->nstep = len;
+    return KT_OK;
+}
+
 /* run.yaml: mesh, steps (the last step number) and mesh_hash (required), plan and plan_hash
- * (optional): what the run is, checked against what is read (setup). */
+ * (optional), step_files (optional: the steps written, augsolve --steps; without it every step
+ * 0..steps): what the run is, checked against what is read (setup). */
 static int read_run_yaml(run_ctx *c, int *declared, kt_err *e)
 {
     char path[PATHMAX], buf[PATHMAX];
@@ -103,6 +120,7 @@ static int read_run_yaml(run_ctx *c, int *declared, kt_err *e)
     *declared = -1;
     if (rc == KT_OK && !kt_yml_require(&y, root, "steps", "run.yaml", e)) rc = e->code;
     if (rc == KT_OK) rc = kt_yml_key_int(&y, root, "run.yaml", "steps", 0, 1000000, declared, e);
+    if (rc == KT_OK && (n = kt_yml_get(&y, root, "step_files")) != NULL) rc = read_step_files(c, &y, n, *declared, e);
     int has;
     if (rc == KT_OK) rc = yml_hash(&y, root, "mesh_hash", 1, &c->mesh_hash, &has, e);
     if (rc == KT_OK) rc = yml_hash(&y, root, "plan_hash", 0, &c->plan_hash, &c->has_plan_hash, e);
@@ -171,24 +189,35 @@ static int list_steps(run_ctx *c, int declared, kt_err *e)
         return e->code;
     }
     qsort(num, n, sizeof(int), cmp_int);
-    /* exactly the steps run.yaml lists: one more is another run's (or a mix), one fewer a
+    /* the steps run.yaml records: step_files as listed, else every step 0..steps */
+    int listed = c->num != NULL;
+    if (!listed) {
+        c->nstep = declared + 1;
+        if (!(c->num = kt_calloc((size_t)c->nstep, sizeof(int), e))) rc = e->code;
+        for (int i = 0; rc == KT_OK && i < c->nstep; i++) c->num[i] = i;
+    }
+    /* exactly the steps run.yaml records: one more is another run's (or a mix), one fewer a
      * run cut short */
-    if (n > 0 && num[n - 1] > declared)
-        rc = kt_fail(e, KT_EINPUT, "%s/step-%04d.vtk: not a step of this run (run.yaml says "
-                     "steps: %d): a previous run's file? remove it, or run augsolve again",
-                     dir, num[n - 1], declared);
-    for (int i = 0; rc == KT_OK && i <= declared; i++)
-        if (i >= n || num[i] != i)
-            rc = kt_fail(e, KT_EINPUT, "%s/step-%04d.vtk: missing (run.yaml says steps: %d, "
-                         "numbered 0, 1, 2, ... without gaps)", dir, i, declared);
+    for (int i = 0, k = 0; rc == KT_OK && i < n; i++) {
+        while (k < c->nstep && c->num[k] < num[i]) k++;
+        if (k == c->nstep || c->num[k] != num[i])
+            rc = kt_fail(e, KT_EINPUT, listed ? "%s/step-%04d.vtk: not a step of this run (run.yaml's step_files do "
+                         "not list it): a previous run's file? remove it, or run augsolve again" :
+                         "%s/step-%04d.vtk: not a step of this run (run.yaml says steps: %d): a previous "
+                         "run's file? remove it, or run augsolve again", dir, num[i], declared);
+    }
+    for (int i = 0; rc == KT_OK && i < c->nstep; i++)
+        if (!bsearch(&c->num[i], num, n, sizeof(int), cmp_int))
+            rc = listed ? kt_fail(e, KT_EINPUT, "%s/step-%04d.vtk: missing (run.yaml's step_files list it)", dir, c->num[i])
+                        : kt_fail(e, KT_EINPUT, "%s/step-%04d.vtk: missing (run.yaml says steps: %d, "
+                                  "numbered 0, 1, 2, ... without gaps)", dir, c->num[i], declared);
     if (rc == KT_OK) rc = check_steps_tsv(dir, num, n, e);
     if (rc == KT_OK) {
-        c->vtk = kt_calloc(n, sizeof(char *), e);
-        for (int i = 0; c->vtk && i < n && rc == KT_OK; i++) {
+        c->vtk = kt_calloc((size_t)c->nstep, sizeof(char *), e);
+        for (int i = 0; c->vtk && i < c->nstep && rc == KT_OK; i++) {
             char name[64], path[PATHMAX];
-            snprintf(name, sizeof name, "step-%04d.vtk", i);
+            snprintf(name, sizeof name, "step-%04d.vtk", c->num[i]);
             if ((rc = kt_curvrun_join(path, dir, name, e)) == KT_OK && !(c->vtk[i] = kt_strdup(path, e))) rc = e->code;
-            c->nstep = i + 1;
         }
         if (!c->vtk) rc = e->code;
     }
@@ -237,9 +266,26 @@ int kt_curvrun_tmp_path(run_ctx *c, char *path, const char *name, kt_err *e)
     return kt_curvrun_join(path, c->tmpdir, name, e);
 }
 
-/* Rename every output into place; then the temporary folder goes. */
+/* No output may replace an input (a step file, the mesh, the plan, --sens, the colour scale). */
+static int outputs_distinct(run_ctx *c, kt_err *e)
+{
+    const char **in = kt_calloc((size_t)c->nstep + 5, sizeof *in, e);
+    if (!in) return e->code;
+    int n = 0;
+    for (int i = 0; i < c->nstep && c->vtk; i++) in[n++] = c->vtk[i];
+    in[n++] = c->mesh, in[n++] = c->plan, in[n++] = c->o->sens, in[n++] = c->o->scale;
+    for (int i = 0; i < c->nfile && !e->code; i++) {
+        char to[PATHMAX];
+        if (kt_curvrun_join(to, c->outdir, c->file[i], e) == KT_OK) kt_out_distinct(to, in, n, e);
+    }
+    free(in);
+    return e->code;
+}
+
+/* Rename every output into place (none of them an input); then the temporary folder goes. */
 static int commit_files(run_ctx *c, kt_err *e)
 {
+    if (outputs_distinct(c, e)) return e->code;
     for (int i = 0; i < c->nfile; i++) {
         char from[PATHMAX], to[PATHMAX];
         if (kt_curvrun_join(from, c->tmpdir, c->file[i], e) || kt_curvrun_join(to, c->outdir, c->file[i], e)) return e->code;
@@ -447,10 +493,11 @@ static int auto_maps(run_ctx *c, kt_err *e)
 
 /* ---------------------------------------------------------------- step numbers, --step, --arc */
 
-/* A run folder's steps are 0, 1, ...; files named step-NNNN.vtk after --mesh keep NNNN when the
+/* A run folder's steps are those run.yaml records (list_steps); files named step-NNNN.vtk after --mesh keep NNNN when the
  * numbers increase from 0, else they are numbered in the order given. */
 static int number_steps(run_ctx *c, kt_err *e)
 {
+    if (c->o->run_dir) return KT_OK; /* numbered by run.yaml (list_steps) */
     if (!(c->num = kt_calloc(c->nstep, sizeof(int), e))) return e->code;
     int named = !c->o->run_dir;
     for (int i = 0; i < c->nstep; i++) {

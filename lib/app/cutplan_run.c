@@ -59,23 +59,27 @@ static int stream(const kt_cutplan_opts *o, const kt_plan *p, kt_incise *c, cons
     kt_progress pr;
     const kt_incise_stats *st = kt_incise_stats_get(c);
     kt_progress_start(&pr, "cutplan", st->work, o->quiet);
-    int rc = kt_edits_write_header(out.f, &h, e);
+    kt_err we = {0}; /* the writer's errors: a failed write is named by its file (kt_out_failed) */
+    int rc = kt_edits_write_header(out.f, &h, &we);
     while (rc == KT_OK) {
         int more = kt_incise_next(c, &s, e);
         if (more <= 0) {
             rc = more < 0 ? e->code : KT_OK;
             break;
         }
-        rc = kt_edits_write_step(out.f, &s, e);
+        rc = kt_edits_write_step(out.f, &s, &we);
         kt_progress_update(&pr, st->work_done);
     }
     kt_step_free(&s);
     if (rc == KT_OK && st->steps == 0)
         rc = kt_fail(e, KT_EINPUT, "%s: the plan makes no step on %s (nothing to cut)", o->plan,
                      o->mesh);
-    if (rc == KT_OK) rc = kt_edits_write_done(out.f, st->steps, e);
+    if (rc == KT_OK) rc = kt_edits_write_done(out.f, st->steps, &we);
+    if (we.code && (out.is_stdout || kt_out_failed(&out, e) == KT_OK))
+        kt_fail(e, we.code, "%s: %s", out.is_stdout ? "<stdout>" : o->out, we.msg);
     if (rc == KT_OK) rc = kt_out_commit(&out, e);
     else kt_out_abort(&out);
+    rc = e->code;
     kt_progress_end(&pr);
     return rc;
 }
@@ -87,7 +91,11 @@ int kt_cutplan_run(const kt_cutplan_opts *o, kt_err *e)
     kt_mesh m = {0};
     kt_incise *c = NULL;
     if (!p || kt_out_check(o->out, e) || (o->mesh_out && kt_out_check(o->mesh_out, e)) ||
-        kt_plan_load(o->plan, p, e) || kt_msh_read(o->mesh, &m, e))
+        kt_plan_load(o->plan, p, e))
+        goto done;
+    const char *in[] = {o->plan, o->mesh, p->scene_path};
+    if (kt_out_distinct(o->out, in, 3, e) || (o->mesh_out && kt_out_distinct(o->mesh_out, in, 3, e)) ||
+        kt_msh_read(o->mesh, &m, e))
         goto done;
     if (kt_plan_check_mesh(p, &m, o->mesh, e)) goto done;
     double t1 = kt_now();

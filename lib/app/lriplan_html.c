@@ -448,9 +448,6 @@ int kt_lri_write_html(const kt_lri_answer *a, const kt_lriplan_opts *o, const ch
     kt_out out;
     if (kt_out_open(&out, path, e)) return e->code;
     page(out.f, a, o, report);
-    if (ferror(out.f)) {
-        kt_out_abort(&out);
-        return kt_fail(e, KT_ERUN, "%s: write failed", path);
-    }
+    if (kt_out_failed(&out, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
 }

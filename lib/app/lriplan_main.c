@@ -27,7 +27,7 @@ int kt_lri_main_check(const kt_patient *p, kt_scene *s, kt_err *e)
     const char *field;
     char msg[400];
     if (kt_tunnel_derive(&s->eye, &t, &field, msg, sizeof msg))
-        return kt_fail(e, KT_EINPUT, "%s: main_incision: its tunnel's %s: %s", p->path, field, msg);
+        return kt_patient_fail(p, e, KT_PF_MAIN, -1, "its tunnel's %s: %s", field, msg);
     /* The mesh follows the main incision's site: the cylinder around the tunnel's rectangle
      * (seen from the front) meshed at the incision's size (eye.mesh_size.site). */
     double re = hypot(t.entry[0], t.entry[1]), ri = hypot(t.exit[0], t.exit[1]);

@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "lriplan_run.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,7 @@
 #include <unistd.h>
 
 #include "augsolve_run.h"
+#include "outdir.h"
 #include "curvature_run.h"
 #include "cutplan_run.h"
 #include "lriplan_int.h"
@@ -47,7 +49,7 @@ static int fit_pentacam(kt_lri_answer *a, kt_err *e)
 {
     kt_patient *p = &a->p;
     kt_pentacam_map m;
-    if (kt_pentacam_read(p->pentacam_front, KT_PENTACAM_ELEVATION, &m, e)) return e->code;
+    if (kt_patient_read_map(p, KT_PF_FRONT, &m, e)) return e->code;
     int rc = kt_surffit_elevation(&m, KT_SURFFIT_ZONE, &a->fit_ant, e);
     if (rc == KT_OK) rc = kt_surffit_halves(&m, &a->fit_ant, &a->halves, e);
     kt_pentacam_free(&m);
@@ -56,7 +58,7 @@ static int fit_pentacam(kt_lri_answer *a, kt_err *e)
     p->ant.r_steep = a->fit_ant.r_steep, p->ant.r_flat = a->fit_ant.r_flat;
     p->ant.axis = a->fit_ant.axis, p->ant.conic = a->fit_ant.conic;
     if (p->pentacam_back[0]) {
-        if (kt_pentacam_read(p->pentacam_back, KT_PENTACAM_ELEVATION, &m, e)) return e->code;
+        if (kt_patient_read_map(p, KT_PF_BACK, &m, e)) return e->code;
         rc = kt_surffit_elevation(&m, KT_SURFFIT_ZONE, &a->fit_post, e);
         kt_pentacam_free(&m);
         if (rc) return rc;
@@ -65,7 +67,7 @@ static int fit_pentacam(kt_lri_answer *a, kt_err *e)
         p->post.axis = a->fit_post.axis, p->post.conic = a->fit_post.conic;
     }
     if (p->pentacam_pachy[0]) {
-        if (kt_pentacam_read(p->pentacam_pachy, KT_PENTACAM_PACHYMETRY, &m, e)) return e->code;
+        if (kt_patient_read_map(p, KT_PF_PACHYMETRY, &m, e)) return e->code;
         double rmax = fmin(p->zone / 2 + 0.5, KT_PENTACAM_HALF);
         rc = kt_surffit_pachymetry(&m, a->fit_ant.ax, a->fit_ant.ay, rmax, &a->fit_pachy, e);
         kt_pentacam_free(&m);
@@ -75,10 +77,7 @@ static int fit_pentacam(kt_lri_answer *a, kt_err *e)
         if (isnan(p->t_zone)) p->t_zone = kt_pachyfit_at(&a->fit_pachy, p->zone / 2);
     }
     a->fitted = 1;
-    if (!(p->ant.r_steep > 5 && p->ant.r_flat < 12))
-        return kt_fail(e, KT_EINPUT, "%s: the fitted anterior radii %.3f / %.3f mm are not a cornea's", p->pentacam_front,
-                       p->ant.r_steep, p->ant.r_flat);
-    return KT_OK;
+    return kt_patient_check_fit(p, a->fit_post_ok, a->fit_pachy_ok, e);
 }
 
 /* The halves of the steep meridian: which is steeper and the ratio of their astigmatism (the
@@ -100,8 +99,8 @@ static int blade(kt_lri_answer *a, kt_err *e)
     a->t_zone = isnan(p->t_zone) ? kt_patient_model_zone_thickness(p) : p->t_zone;
     a->blade = p->depth_fraction > 0 ? p->depth_fraction * a->t_zone : p->depth;
     if (!(a->blade <= KT_PATIENT_DEPTH_MAX * a->t_zone + 1e-12))
-        return kt_fail(e, KT_EINPUT, "%s: constraints.depth: expected at most %g%% of the pachymetry at the zone (%.0f um), got %.0f um",
-                       p->path, 100 * KT_PATIENT_DEPTH_MAX, 1000 * KT_PATIENT_DEPTH_MAX * a->t_zone, 1000 * a->blade);
+        return kt_patient_fail(p, e, KT_PF_DEPTH, KT_PF_PACHYMETRY, "expected at most %g%% of the pachymetry at the zone (%.0f um), got %.0f um",
+                               100 * KT_PATIENT_DEPTH_MAX, 1000 * KT_PATIENT_DEPTH_MAX * a->t_zone, 1000 * a->blade);
     return KT_OK;
 }
 
@@ -152,10 +151,8 @@ static int write_plan(const kt_lriplan_opts *o, const kt_lri_answer *a, const kt
     fprintf(out.f, "    position: {surface: incision-ring-1}\n    paired: %s\n    direction: centre-out\n",
             paired ? "true" : "false");
     fprintf(out.f, "progression: {degrees_per_step: %.17g deg}\n", o->step);
-    if (kt_lri_main_plan(out.f, p, s) || ferror(out.f)) {
-        kt_out_abort(&out);
-        return kt_fail(e, KT_ERUN, "%s: write failed", path);
-    }
+    if (kt_lri_main_plan(out.f, p, s) && !kt_out_failed(&out, e)) kt_fail(e, KT_ERUN, "%s: write failed", path);
+    if (e->code) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
 }
 
@@ -360,7 +357,7 @@ static int chosen_report(const kt_lriplan_opts *o, const kt_lri_answer *a, const
     return rc;
 }
 
-int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
+static int run_plan(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
 {
     kt_lri_answer *a = kt_calloc(1, sizeof *a, e);
     if (!a) return e->code;
@@ -415,5 +412,51 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
     if (rc == KT_OK) rc = join(html, o->outdir, "plan.html", e) || kt_lri_write_html(a, o, report, html, e) ? e->code : KT_OK;
     if (rc == KT_OK && summary) kt_lri_summary(a, o, summary);
     free(a), free(s);
+    return rc;
+}
+
+/* The patient file loads, and none of the run's inputs lies in the plan folder, which is
+ * replaced whole (the patient, its maps, --base). */
+static int inputs_outside(const kt_lriplan_opts *o, kt_err *e)
+{
+    kt_patient *p = kt_calloc(1, sizeof *p, e);
+    if (!p) return e->code;
+    /* a patient file that does not load is refused here, before the plan folder is touched */
+    int rc = kt_patient_load(o->patient, p, e);
+    const char *in[] = {o->patient, p->pentacam_front, p->pentacam_back, p->pentacam_pachy, o->base};
+    if (rc == KT_OK) rc = kt_outdir_distinct(o->outdir, NULL, 0, in, 5, e);
+    free(p);
+    return rc;
+}
+
+/* The plan folder as a unit (kt_outdir, lib/core/outdir.h): locked, the run written into a
+ * temporary folder beside it (its earlier plan removed first), renamed into place when whole;
+ * the summary printed only then, naming PLAN_DIR. */
+int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
+{
+    if (inputs_outside(o, e)) return e->code;
+    kt_outdir d;
+    if (kt_outdir_begin(&d, o->outdir, e)) return e->code;
+    kt_lriplan_opts w = *o;
+    w.outdir = d.tmp;
+    char *text = NULL;
+    size_t len = 0;
+    FILE *mem = summary ? open_memstream(&text, &len) : NULL;
+    int rc = summary && !mem ? kt_fail(e, KT_ERUN, "cannot hold the summary: %s", strerror(errno)) : KT_OK;
+    if (rc == KT_OK) rc = run_plan(&w, mem, e);
+    if (mem && fclose(mem) != 0 && rc == KT_OK) rc = kt_fail(e, KT_ERUN, "cannot hold the summary");
+    char tmp[PATHLEN], dir[PATHLEN];
+    snprintf(tmp, sizeof tmp, "%s", d.tmp), snprintf(dir, sizeof dir, "%s", d.path);
+    if (rc == KT_OK) rc = kt_outdir_commit(&d, e);
+    else kt_outdir_abort(&d);
+    size_t lt = strlen(tmp);
+    for (char *t = text, *hit; rc == KT_OK && t && *t; t = hit + lt) { /* the temporary's name is PLAN_DIR's */
+        if (!(hit = strstr(t, tmp))) {
+            fputs(t, summary);
+            break;
+        }
+        fprintf(summary, "%.*s%s", (int)(hit - t), t, dir);
+    }
+    free(text);
     return rc;
 }

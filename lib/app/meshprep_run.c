@@ -301,7 +301,9 @@ int kt_prep_run_table(const kt_prep_opts *o, int table, FILE *summary, kt_err *e
     memset(&r, 0, sizeof r);
     kt_mesh m;
     memset(&m, 0, sizeof m);
-    if (kt_scene_load(o->scene, s, e) || probe_output(o->out, e)) goto done;
+    if (kt_scene_load(o->scene, s, e)) goto done;
+    const char *in[] = {o->scene, s->cgal.path};
+    if (kt_out_distinct(o->out, in, 2, e) || probe_output(o->out, e)) goto done;
     r.o = o;
     r.chosen_only = table == KT_PREP_TABLE_CHOSEN;
     r.s = s;

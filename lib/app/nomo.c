@@ -1,5 +1,5 @@
 /* nomo.c: inverse planning from a simulated nomogram (see nomo.h and lri-nomogram(1)). */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* qsort_r */
 #include "nomo.h"
 
 #include "curv.h"
@@ -40,6 +40,11 @@ static int read_header(char *line, int *idx, int *idx_sd, const char *path, kt_e
     char *f[256];
     int colno[256];
     int nf = split_tabs(line, f, colno, 256);
+    for (int i = 0; i < nf; i++) /* a column named twice: which one is meant? */
+        for (int j = 0; j < i; j++)
+            if (f[i][0] && strcmp(f[i], f[j]) == 0)
+                return kt_fail(e, KT_EINPUT, "%s:1:%d: expected each column once, '%s' is also column %d (at 1:%d)",
+                               path, colno[i], f[i], j + 1, colno[j]);
     *idx_sd = -1;
     for (int i = 0; i < nf; i++)
         if (strcmp(f[i], C_SIASD_NAME) == 0) *idx_sd = i;
@@ -89,10 +94,56 @@ static int parse_case(char *line, int lineno, const int *idx, int idx_sd, kt_nom
             return kt_fail(e, KT_EINPUT, "%s:%d:%d: expected a number >= 0 or NaN in column %s", path, lineno,
                            colno[idx_sd], C_SIASD_NAME);
     }
+    k->line = lineno;
     if (!(k->arc > 0) || !(k->sia >= 0) || !(k->depth > 0) || !(k->diameter > 0))
         return kt_fail(e, KT_EINPUT, "%s:%d:1: expected arc, depth and diameter > 0 and SIA >= 0",
                        path, lineno);
     return KT_OK;
+}
+
+/* The same simulated eye: every defining column of an eye equal (kt_nomo_read). */
+static int same_eye(const kt_nomo_case *a, const kt_nomo_case *b)
+{
+    return strcmp(a->eye, b->eye) == 0 && a->age == b->age && a->cyl_pre == b->cyl_pre && a->axis == b->axis;
+}
+
+/* Cases ordered by all their defining columns: the eye's, then incisions, arc, depth, diameter
+ * (0: the same case), then by line. */
+static int key_order(const kt_nomo_case *a, const kt_nomo_case *b)
+{
+    int s = strcmp(a->eye, b->eye);
+    if (s) return s;
+    double d[7] = {a->age - b->age, a->cyl_pre - b->cyl_pre, a->axis - b->axis, a->incisions - b->incisions,
+                   a->arc - b->arc, a->depth - b->depth, a->diameter - b->diameter};
+    for (int i = 0; i < 7; i++)
+        if (d[i] != 0) return d[i] < 0 ? -1 : 1;
+    return 0;
+}
+
+static int cmp_case(const void *pa, const void *pb, void *ctx)
+{
+    const kt_nomo_case *c = ctx, *a = &c[*(const int *)pa], *b = &c[*(const int *)pb];
+    int k = key_order(a, b);
+    return k ? k : (a->line > b->line) - (a->line < b->line);
+}
+
+/* Each case once: the later line of a repeated case is refused, naming the earlier. */
+static int check_unique(const kt_nomo *t, const char *path, kt_err *e)
+{
+    int *ix = kt_calloc((size_t)t->n, sizeof *ix, e);
+    if (!ix) return e->code;
+    for (int i = 0; i < t->n; i++) ix[i] = i;
+    qsort_r(ix, (size_t)t->n, sizeof *ix, cmp_case, t->c);
+    for (int i = 1; i < t->n && !e->code; i++) {
+        const kt_nomo_case *a = &t->c[ix[i - 1]], *b = &t->c[ix[i]]; /* a->line < b->line when equal */
+        if (key_order(a, b) == 0)
+            kt_fail(e, KT_EINPUT, "%s:%d:1: expected each case once: this row repeats line %d (eye %s, age %g y, "
+                    "cylinder %g D @ %g deg, %d incision%s of %g deg, depth %g, diameter %g mm)", path, b->line, a->line,
+                    a->eye, a->age, a->cyl_pre, a->axis, a->incisions, a->incisions == 1 ? "" : "s", a->arc, a->depth,
+                    a->diameter);
+    }
+    free(ix);
+    return e->code;
 }
 
 int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e)
@@ -145,6 +196,7 @@ int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e)
     fclose(in);
     if (rc == KT_OK && lineno == 0) rc = kt_fail(e, KT_EINPUT, "%s:1:1: expected a header, found an empty file", path);
     if (rc == KT_OK && t->n == 0) rc = kt_fail(e, KT_EINPUT, "%s:2:1: expected a case", path);
+    if (rc == KT_OK) rc = check_unique(t, path, e);
     if (rc) kt_nomo_free(t);
     return rc;
 }
@@ -165,19 +217,20 @@ static int selected(const kt_nomo_case *k, int n, double depth, double diameter)
 /* The SIA of eye's selected cases at arc, linear between simulated arcs, 0 at arc 0; NAN beyond
  * the longest. *near gets the simulated case nearest in arc; *sd (when not NULL) the SIA's sd
  * interpolated the same way (NAN when a case used has none). */
-static double sia_at_sd(const kt_nomo *t, const char *eye, int n, double depth, double diameter,
-                        double arc, const kt_nomo_case **near, double *sd)
+static double sia_at_sd(const kt_nomo *t, const kt_nomo_case *eye, int n, double depth, double diameter,
+                        double arc, const kt_nomo_case **near, double *sd, const kt_nomo_case **used)
 {
     const kt_nomo_case *lo = NULL, *hi = NULL;
     *near = NULL;
     if (sd) *sd = NAN;
     for (int i = 0; i < t->n; i++) {
         const kt_nomo_case *k = &t->c[i];
-        if (strcmp(k->eye, eye) != 0 || !selected(k, n, depth, diameter)) continue;
+        if (!same_eye(k, eye) || !selected(k, n, depth, diameter)) continue;
         if (k->arc <= arc && (!lo || k->arc > lo->arc)) lo = k;
         if (k->arc >= arc && (!hi || k->arc < hi->arc)) hi = k;
         if (!*near || fabs(k->arc - arc) < fabs((*near)->arc - arc)) *near = k;
     }
+    if (used) used[0] = lo, used[1] = hi;
     if (!hi) return NAN;
     double a0 = lo ? lo->arc : 0, s0 = lo ? lo->sia : 0, d0 = lo ? lo->sia_sd : 0;
     if (hi->arc == a0) {
@@ -189,10 +242,19 @@ static double sia_at_sd(const kt_nomo *t, const char *eye, int n, double depth, 
     return s0 + (hi->sia - s0) * w;
 }
 
-static double sia_at(const kt_nomo *t, const char *eye, int n, double depth, double diameter,
+static double sia_at(const kt_nomo *t, const kt_nomo_case *eye, int n, double depth, double diameter,
                      double arc, const kt_nomo_case **near)
 {
-    return sia_at_sd(t, eye, n, depth, diameter, arc, near, NULL);
+    return sia_at_sd(t, eye, n, depth, diameter, arc, near, NULL, NULL);
+}
+
+/* Whether case k's eye is nearer cylinder cyl than case o's; between two as near, the first in
+ * the order of the defining columns (key_order), so that the answer does not depend on the
+ * table's row order. */
+static int nearer(const kt_nomo_case *k, const kt_nomo_case *o, double cyl)
+{
+    double dk = fabs(k->cyl_pre - cyl), dof = fabs(o->cyl_pre - cyl);
+    return dk < dof || (dk == dof && key_order(k, o) < 0);
 }
 
 /* For each simulated age: the eye of that age whose cylinder is nearest cyl among the
@@ -206,15 +268,11 @@ static int pick_eyes(const kt_nomo *t, int n, double depth, double diameter, dou
         if (!selected(k, n, depth, diameter)) continue;
         const kt_nomo_case **slot = NULL;
         if (k->age <= age && (!*elo || k->age >= (*elo)->age)) slot = elo;
-        if (slot && *slot && k->age == (*slot)->age &&
-            fabs(k->cyl_pre - cyl) >= fabs((*slot)->cyl_pre - cyl))
-            slot = NULL;
+        if (slot && *slot && k->age == (*slot)->age && !nearer(k, *slot, cyl)) slot = NULL;
         if (slot) *slot = k;
         slot = NULL;
         if (k->age >= age && (!*ehi || k->age <= (*ehi)->age)) slot = ehi;
-        if (slot && *slot && k->age == (*slot)->age &&
-            fabs(k->cyl_pre - cyl) >= fabs((*slot)->cyl_pre - cyl))
-            slot = NULL;
+        if (slot && *slot && k->age == (*slot)->age && !nearer(k, *slot, cyl)) slot = NULL;
         if (slot) *slot = k;
     }
     if (!*elo && !*ehi) return 0;
@@ -225,13 +283,13 @@ static int pick_eyes(const kt_nomo *t, int n, double depth, double diameter, dou
 }
 
 /* The selection's simulated arcs of eye, ascending, into arcs (at most max); returns the count. */
-static int eye_arcs(const kt_nomo *t, const char *eye, int n, double depth, double diameter,
+static int eye_arcs(const kt_nomo *t, const kt_nomo_case *eye, int n, double depth, double diameter,
                     double *arcs, int max)
 {
     int m = 0;
     for (int i = 0; i < t->n; i++) {
         const kt_nomo_case *k = &t->c[i];
-        if (strcmp(k->eye, eye) != 0 || !selected(k, n, depth, diameter)) continue;
+        if (!same_eye(k, eye) || !selected(k, n, depth, diameter)) continue;
         int j = m;
         if (m == max) break;
         while (j > 0 && arcs[j - 1] > k->arc) { arcs[j] = arcs[j - 1]; j--; }
@@ -278,8 +336,8 @@ static void band(const kt_nomo *t, const kt_nomo_query *q, int n, double depth, 
     double sd_lo, sd_hi;
     (void)q;
     a->sia_sd = a->residual_sd = a->residual_lo90 = a->residual_hi90 = NAN;
-    sia_at_sd(t, elo->eye, n, depth, diameter, a->arc, &near, &sd_lo);
-    sia_at_sd(t, ehi->eye, n, depth, diameter, a->arc, &near, &sd_hi);
+    sia_at_sd(t, elo, n, depth, diameter, a->arc, &near, &sd_lo, NULL);
+    sia_at_sd(t, ehi, n, depth, diameter, a->arc, &near, &sd_hi, NULL);
     double sd = (1 - w) * sd_lo + w * sd_hi;
     if (!(sd >= 0)) return; /* NAN: the table (or a case used) has no sd */
     a->sia_sd = sd;
@@ -304,7 +362,7 @@ static void answer_one(const kt_nomo *t, const kt_nomo_query *q, int n, double d
     memset(a, 0, sizeof *a);
     if (!pick_eyes(t, n, depth, diameter, cyl, q->age, &elo, &ehi, &w)) return;
     double arcs[512];
-    int m = eye_arcs(t, elo->eye, n, depth, diameter, arcs, 512);
+    int m = eye_arcs(t, elo, n, depth, diameter, arcs, 512);
     a->incisions = n;
     a->depth = depth;
     a->diameter = diameter;
@@ -313,8 +371,8 @@ static void answer_one(const kt_nomo *t, const kt_nomo_query *q, int n, double d
     double prev_arc = 0, prev_sia = 0;
     a->arc = a->arc_lo = a->arc_hi = 0;
     for (int i = 0; i < m; i++) {
-        double s = (1 - w) * sia_at(t, elo->eye, n, depth, diameter, arcs[i], &near) +
-                   w * sia_at(t, ehi->eye, n, depth, diameter, arcs[i], &near);
+        double s = (1 - w) * sia_at(t, elo, n, depth, diameter, arcs[i], &near) +
+                   w * sia_at(t, ehi, n, depth, diameter, arcs[i], &near);
         if (isnan(s)) break; /* beyond the longest arc of the other age */
         if (s >= q->target) {
             a->reached = 1;
@@ -330,7 +388,11 @@ static void answer_one(const kt_nomo *t, const kt_nomo_query *q, int n, double d
         prev_sia = a->sia = s;
     }
     /* the SIA's axis relative to the incised meridian, from the nearest simulated case */
-    sia_at(t, elo->eye, n, depth, diameter, a->arc, &near);
+    const kt_nomo_case *used[2][2];
+    sia_at_sd(t, ehi, n, depth, diameter, a->arc, &near, NULL, used[1]);
+    sia_at_sd(t, elo, n, depth, diameter, a->arc, &near, NULL, used[0]);
+    for (int g = 0; g < 2; g++)
+        for (int b = 0; b < 2; b++) a->rows[g][b] = used[g][b] ? used[g][b]->line : 0;
     double sia_axis = near ? axis + (near->sia_axis - near->axis) : axis + 90;
     astig_add(cyl, axis, a->sia, sia_axis, &a->residual, &a->residual_axis);
     band(t, q, n, depth, diameter, elo, ehi, w, cyl, axis, sia_axis, a);

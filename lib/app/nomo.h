@@ -21,6 +21,7 @@ typedef struct kt_nomo_case {
     double sia_axis;  /* its axis, deg */
     double sia_sd;    /* the SIA's first-order sd, D (column sia_sd_D: the study's runs with
                          augsolve --uncertainty, curvature's sia_D_sd); NAN: the table has none */
+    int line;         /* its line in the table (1: the header) */
 } kt_nomo_case;
 
 /* The table: every case of a nomogram.tsv. */
@@ -56,7 +57,10 @@ typedef struct kt_nomo {
  * incisions, arc_deg, depth, diameter_mm, sia_D, sia_axis_deg; optionally sia_sd_D, the SIA's
  * first-order sd: a number >= 0 or NaN; a table without it reads as before, every sd NAN).
  * Bad input: KT_EINPUT with "path:line:col: expected ...". A UTF-8 byte-order mark before the
- * header is skipped. */
+ * header is skipped. A simulated eye is keyed by all its defining columns (eye, age_y,
+ * cyl_pre_D, axis_deg: one name may stand for eyes of several ages), a case by those and
+ * incisions, arc_deg, depth, diameter_mm: a header naming a column twice, and a case given
+ * twice (its second line named, and the first), are refused. */
 int kt_nomo_read(kt_nomo *t, const char *path, kt_err *e);
 void kt_nomo_free(kt_nomo *t);
 
@@ -91,6 +95,10 @@ typedef struct kt_nomo_answer {
      * the pre-op's against the SIA's below KT_NOMO_RES_DIR), and its 90% interval residual +- 1.645
      * sd, the lower end clipped at 0. NAN when the table has no sia_sd_D. */
     double sia_sd, residual_sd, residual_lo90, residual_hi90;
+    /* The table's lines (kt_nomo_case.line) of the cases the answer used: for the eye of the
+     * lower age and of the higher (the same eye when one age), the cases at the arcs below and
+     * above the answer (equal when exact; 0: none, the arc 0 of no SIA). */
+    int rows[2][2];
 } kt_nomo_answer;
 
 /* Answer q from t for one incision and for a pair: ans[0] one, ans[1] a pair. Returns KT_OK,

@@ -18,6 +18,7 @@
 #include <string.h>
 #include <dirent.h>
 #include <fcntl.h>
+#include <fnmatch.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
@@ -237,6 +238,81 @@ static void target_of(const char *path, char *real)
     }
 }
 
+const char *kt_io_cause(int err)
+{
+    if (err == ENOSPC) return "disk full (No space left on device)";
+    if (err == EDQUOT) return "disk full (Disk quota exceeded)";
+    if (err == EFBIG) return "file too large (File too large)";
+    return strerror(err);
+}
+
+/* The stream under a kt_out: its descriptor, and the first write error. A write after one has
+ * failed fails at once, so the rest of a file is not attempted. */
+struct kt_out_sink {
+    int fd;
+    int err;
+};
+
+static ssize_t sink_write(void *cookie, const char *buf, size_t n)
+{
+    struct kt_out_sink *s = cookie;
+    if (s->err) {
+        errno = s->err;
+        return -1;
+    }
+    size_t done = 0;
+    while (done < n) {
+        ssize_t w = write(s->fd, buf + done, n - done);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) {
+            s->err = w < 0 ? errno : EIO;
+            errno = s->err;
+            return done ? (ssize_t)done : -1;
+        }
+        done += (size_t)w;
+    }
+    return (ssize_t)n;
+}
+
+static int sink_close(void *cookie)
+{
+    struct kt_out_sink *s = cookie;
+    int rc = s->fd >= 0 ? close(s->fd) : 0;
+    if (rc != 0 && !s->err) s->err = errno;
+    s->fd = -1;
+    return rc;
+}
+
+/* o->f over fd, through a sink (o->sink) that keeps the first write error; fd is closed on
+ * failure. */
+static int sink_open(kt_out *o, int fd, const char *path, kt_err *e)
+{
+    o->sink = kt_calloc(1, sizeof *o->sink, e);
+    if (!o->sink) {
+        close(fd);
+        return e->code;
+    }
+    o->sink->fd = fd;
+    cookie_io_functions_t io = {NULL, sink_write, NULL, sink_close};
+    o->f = fopencookie(o->sink, "w", io);
+    if (!o->f) {
+        close(fd);
+        free(o->sink);
+        o->sink = NULL;
+        return kt_fail(e, KT_ERUN, "%s: cannot open a stream: %s", path, strerror(errno));
+    }
+    setvbuf(o->f, NULL, _IOFBF, 1 << 16);
+    return KT_OK;
+}
+
+int kt_out_failed(const kt_out *o, kt_err *e)
+{
+    if (!o->f || !ferror(o->f)) return KT_OK;
+    int err = o->sink && o->sink->err ? o->sink->err : EIO;
+    return kt_fail(e, KT_ERUN, "%s: write failed: %s", o->is_stdout ? "<stdout>" : o->path ? o->path : "?",
+                   kt_io_cause(err));
+}
+
 int kt_out_check(const char *path, kt_err *e)
 {
     if (strcmp(path, "-") == 0) return KT_OK;
@@ -264,10 +340,13 @@ int kt_out_open(kt_out *o, const char *path, kt_err *e)
         /* A device or FIFO is written to as it is: renaming a file over it would replace it. */
         int fd = open(path, O_WRONLY | O_NOCTTY);
         if (fd < 0) return kt_fail(e, KT_EINPUT, "%s: cannot open the output: %s", path, strerror(errno));
-        o->f = fdopen(fd, "wb");
-        if (!o->f) {
+        if (!(o->path = kt_strdup(path, e))) {
             close(fd);
-            return kt_fail(e, KT_ERUN, "%s: fdopen failed", path);
+            return e->code;
+        }
+        if (sink_open(o, fd, path, e)) {
+            kt_out_abort(o);
+            return e->code;
         }
         o->direct = 1;
         return KT_OK;
@@ -295,11 +374,9 @@ int kt_out_open(kt_out *o, const char *path, kt_err *e)
         return kt_fail(e, KT_EINPUT, "%s: cannot create output file: %s", path, strerror(err));
     }
     fchmod(fd, 0644);
-    o->f = fdopen(fd, "wb");
-    if (!o->f) {
-        close(fd);
+    if (sink_open(o, fd, path, e)) {
         kt_out_abort(o);
-        return kt_fail(e, KT_ERUN, "%s: fdopen failed", path);
+        return e->code;
     }
     return KT_OK;
 }
@@ -307,34 +384,37 @@ int kt_out_open(kt_out *o, const char *path, kt_err *e)
 int kt_out_commit(kt_out *o, kt_err *e)
 {
     if (o->is_stdout) {
+        errno = 0;
         if (fflush(stdout) != 0 || ferror(stdout))
-            return kt_fail(e, KT_ERUN, "<stdout>: write failed");
+            return kt_fail(e, KT_ERUN, "<stdout>: write failed%s%s", errno ? ": " : "", errno ? kt_io_cause(errno) : "");
         o->f = NULL;
         return KT_OK;
     }
-    int bad = ferror(o->f) != 0, err = bad ? EIO : 0;
-    if (fclose(o->f) != 0) {
-        bad = 1;
-        err = errno;
-    }
+    int bad = ferror(o->f) != 0;
+    if (fclose(o->f) != 0) bad = 1;
     o->f = NULL;
     if (bad) {
-        kt_fail(e, KT_ERUN, "%s: write failed: %s", o->path, strerror(err));
+        int err = o->sink && o->sink->err ? o->sink->err : EIO;
+        kt_fail(e, KT_ERUN, "%s: write failed: %s", o->path, kt_io_cause(err));
         kt_out_abort(o);
         return e->code;
     }
     if (o->direct) {
+        free(o->path);
+        free(o->sink);
         memset(o, 0, sizeof *o);
         return KT_OK;
     }
     if (rename(o->tmp, o->path) != 0) {
-        err = errno;
+        kt_fail(e, KT_ERUN, "%s: cannot rename the output into place: %s", o->path, kt_io_cause(errno));
         kt_out_abort(o);
-        return kt_fail(e, KT_ERUN, "cannot rename output into place: %s", strerror(err));
+        return e->code;
     }
     free(o->tmp);
     free(o->path);
+    free(o->sink);
     o->tmp = o->path = NULL;
+    o->sink = NULL;
     return KT_OK;
 }
 
@@ -344,7 +424,60 @@ void kt_out_abort(kt_out *o)
     if (o->tmp) unlink(o->tmp);
     free(o->tmp);
     free(o->path);
+    free(o->sink);
     memset(o, 0, sizeof *o);
+}
+
+static int skip_input(const char *in)
+{
+    return !in || !in[0] || strcmp(in, "-") == 0;
+}
+
+int kt_out_distinct(const char *out, const char *const *in, int n, kt_err *e)
+{
+    struct stat so, si;
+    if (skip_input(out) || stat(out, &so) != 0 || !S_ISREG(so.st_mode)) return KT_OK;
+    for (int i = 0; i < n; i++)
+        if (!skip_input(in[i]) && stat(in[i], &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
+            return kt_fail(e, KT_EINPUT, "%s: the output is the input %s (the same file): refusing to overwrite it", out,
+                           in[i]);
+    return KT_OK;
+}
+
+/* 1 when the folder `dir` (resolved) is the folder d (device and inode). */
+static int same_dir(const char *dir, const struct stat *d)
+{
+    struct stat s;
+    return stat(dir, &s) == 0 && s.st_dev == d->st_dev && s.st_ino == d->st_ino;
+}
+
+int kt_outdir_distinct(const char *dir, const char *const *names, int nnames, const char *const *in, int n,
+                       kt_err *e)
+{
+    struct stat sd;
+    if (stat(dir, &sd) != 0 || !S_ISDIR(sd.st_mode)) return KT_OK; /* made later: holds no input */
+    for (int i = 0; i < n; i++) {
+        char real[PATH_MAX];
+        if (skip_input(in[i]) || !realpath(in[i], real)) continue;
+        char *slash = strrchr(real, '/');
+        const char *base = slash + 1;
+        int hit = 0;
+        if (names) {
+            *slash = '\0';
+            if (same_dir(real[0] ? real : "/", &sd))
+                for (int k = 0; k < nnames && !hit; k++) hit = fnmatch(names[k], base, 0) == 0;
+        } else {
+            while (!hit && slash) { /* every folder above the input, up to the root */
+                *slash = '\0';
+                hit = same_dir(real[0] ? real : "/", &sd);
+                slash = real[0] ? strrchr(real, '/') : NULL;
+            }
+        }
+        if (hit)
+            return kt_fail(e, KT_EINPUT, "%s: the output folder holds the input %s, which this run would %s: refusing",
+                           dir, in[i], names ? "overwrite" : "replace with the folder");
+    }
+    return KT_OK;
 }
 
 void kt_tool_start(void)
@@ -358,7 +491,13 @@ void kt_tool_start(void)
             close(g);
         }
     }
-    kt_blas_pin(); /* the same answer on any machine, and no hang under ulimit -v (blas.h) */
+    kt_blas_pin(); /* the same answer on any machine (blas.h) */
+    if (kt_blas_warm() == KT_BLAS_WARM_NOROOM) {
+        /* a BLAS call would hang (blas.h): end now, with a message */
+        fprintf(stderr, "%s: out of memory: the address space left under the limit (ulimit -v) cannot hold "
+                "the BLAS's %zu MB work buffer\n", program_invocation_short_name, KT_BLAS_BUFFER >> 20);
+        kt_exit(KT_ERUN);
+    }
     /* CHOLMOD's arrays (the factor above all) on transparent huge pages (kt_huge_*), set once
      * before any CHOLMOD call; their free stays the C library's */
     SuiteSparse_config.malloc_func = kt_huge_malloc;
@@ -371,6 +510,50 @@ void kt_tool_start(void)
      * of threads that spin and sleep on a busy 2-core machine */
     omp_set_dynamic(1);
 #endif
+}
+
+/* The bytes of address space left under RLIMIT_AS (SIZE_MAX without a limit). */
+static size_t as_room(void)
+{
+    struct rlimit r;
+    if (getrlimit(RLIMIT_AS, &r) != 0 || r.rlim_cur == RLIM_INFINITY) return SIZE_MAX;
+    FILE *f = fopen("/proc/self/statm", "r");
+    unsigned long pages = 0;
+    int ok = f && fscanf(f, "%lu", &pages) == 1;
+    if (f) fclose(f);
+    if (!ok) return SIZE_MAX;
+    size_t used = (size_t)pages * (size_t)sysconf(_SC_PAGESIZE);
+    return used < r.rlim_cur ? (size_t)r.rlim_cur - used : 0;
+}
+
+/* MemAvailable of /proc/meminfo in bytes (SIZE_MAX when it cannot be read). */
+static size_t mem_available(void)
+{
+    FILE *f = fopen("/proc/meminfo", "r");
+    if (!f) return SIZE_MAX;
+    char line[256];
+    size_t kb = SIZE_MAX;
+    unsigned long v;
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "MemAvailable: %lu kB", &v) == 1) {
+            kb = v;
+            break;
+        }
+    fclose(f);
+    return kb == SIZE_MAX || kb > SIZE_MAX / 1024 ? SIZE_MAX : kb * 1024;
+}
+
+int kt_mem_budget(double bytes, const char *what, kt_err *e)
+{
+    if (!(bytes >= 0)) return kt_fail(e, KT_ERUN, "%s: out of memory: needs an unknown amount", what);
+    size_t as = as_room(), avail = mem_available();
+    if (as != SIZE_MAX && !(bytes <= (double)as))
+        return kt_fail(e, KT_ERUN, "%s: out of memory: needs %.0f MB, the address-space limit (ulimit -v) leaves %.0f MB",
+                       what, bytes / 1048576, (double)as / 1048576);
+    if (avail != SIZE_MAX && !(bytes <= (double)avail))
+        return kt_fail(e, KT_ERUN, "%s: out of memory: needs %.0f MB, the machine has %.0f MB available (MemAvailable)",
+                       what, bytes / 1048576, (double)avail / 1048576);
+    return KT_OK;
 }
 
 void kt_exit(int code)
@@ -390,7 +573,7 @@ int kt_stdout_done(const char *tool)
     int err = errno;
     if (fclose(stdout) != 0 && !bad) bad = 1, err = errno;
     if (!bad) return KT_OK;
-    fprintf(stderr, "%s: <stdout>: write failed: %s\n", tool, err ? strerror(err) : "output lost");
+    fprintf(stderr, "%s: <stdout>: write failed: %s\n", tool, err ? kt_io_cause(err) : "output lost");
     return KT_ERUN;
 }
 

@@ -66,6 +66,7 @@ typedef struct kt_out {
     FILE *f;
     char *path, *tmp;
     int is_stdout, direct;
+    struct kt_out_sink *sink; /* the descriptor under f and the first write error (util.c) */
 } kt_out;
 
 /* KT_OK when path can be an output target (it is not a directory, and a device or FIFO there
@@ -74,11 +75,43 @@ int kt_out_check(const char *path, kt_err *e);
 int kt_out_open(kt_out *o, const char *path, kt_err *e);
 int kt_out_commit(kt_out *o, kt_err *e);
 void kt_out_abort(kt_out *o);
+/* Write errors: the first failed write(2) under o->f is kept with its errno, and every later
+ * write fails at once (the stream's error flag is set: a writer that checks ferror stops; one
+ * that does not costs no more disk). kt_out_failed: KT_OK while nothing failed, else KT_ERUN
+ * recorded as "PATH: write failed: CAUSE" (kt_io_cause), the output left open for
+ * kt_out_abort. kt_out_commit reports the same way, naming the file. */
+int kt_out_failed(const kt_out *o, kt_err *e);
+/* The cause of an I/O errno in words: ENOSPC and EDQUOT "disk full (No space left on device)",
+ * EFBIG "file too large (...)", else strerror. */
+const char *kt_io_cause(int err);
+
+/* KT_OK when `bytes` more can be allocated and touched: no more than the address space left
+ * under RLIMIT_AS (ulimit -v; the process's size from /proc/self/statm) and no more than the
+ * machine's MemAvailable. Else KT_ERUN, "WHAT: out of memory: needs N MB, ... leaves M MB".
+ * For a block the work cannot go on without (a Cholesky factor, sized exactly by the symbolic
+ * analysis), checked before the work that fills it: the failure is immediate and names the
+ * need, instead of an allocation failing after minutes, or the OOM killer's SIGKILL. */
+int kt_mem_budget(double bytes, const char *what, kt_err *e);
+
+/* An output must not be one of the tool's inputs: writing it would destroy the input (mesh-prep
+ * S.yaml -o S.yaml). kt_out_distinct: KT_EINPUT "OUT: the output is the input IN (the same
+ * file): refusing to overwrite it" when the file `out` and one of the n inputs in[] (NULL
+ * entries and "-" skipped) are one file: the same device and inode, so also through a symbolic
+ * link or a hard link. An output that does not exist yet is no input. kt_outdir_distinct, for a
+ * tool that writes into a folder: KT_EINPUT when an input is a file the tool writes in `dir`,
+ * that is, it lies in `dir` itself (the same device and inode as the folder, its symbolic links
+ * resolved) and its name matches one of the nnames fnmatch(3) patterns names[]; with names NULL
+ * every input anywhere below `dir` is refused (a folder that is replaced whole). */
+int kt_out_distinct(const char *out, const char *const *in, int n, kt_err *e);
+int kt_outdir_distinct(const char *dir, const char *const *names, int nnames, const char *const *in, int n,
+                       kt_err *e);
 
 /* At a tool's start: a closed standard stream (0, 1, 2) gets a descriptor on which every
  * read or write fails, so that no file the tool opens takes its number and an output to a
  * closed stdout is an error, not a write into that file. Then the BLAS is pinned to one
- * thread (kt_blas_pin, blas.h): the same answer on any machine, and no hang under ulimit -v.
+ * thread (kt_blas_pin, blas.h): the same answer on any machine; and its work buffer is taken
+ * (kt_blas_warm): no hang under ulimit -v. When the address-space limit cannot hold that
+ * buffer, the tool ends here: "TOOL: out of memory: ..." on stderr, exit 1.
  * CHOLMOD's allocations go through kt_huge_* (SuiteSparse_config's hooks), and its OpenMP
  * regions are bounded by the free cores (omp_set_dynamic). */
 void kt_tool_start(void);

@@ -563,8 +563,8 @@ int kt_step_add(kt_step *s, const kt_edit *ed, kt_err *e)
 
 static int check_written(FILE *f, kt_err *e)
 {
-    if (fflush(f) != 0 || ferror(f)) return kt_fail(e, KT_ERUN, "edits: write failed: %s",
-                                                    strerror(errno));
+    if (fflush(f) != 0 || ferror(f)) return kt_fail(e, KT_ERUN, "write failed: %s",
+                                                    kt_io_cause(errno));
     return KT_OK;
 }
 

@@ -224,7 +224,7 @@ int kt_msh_write_file(FILE *f, const kt_mesh *m, int binary, kt_err *e)
     write_nodes(&w, m, vol_tag);
     write_elements(&w, m);
     if (fflush(f) != 0 || ferror(f))
-        return kt_fail(e, KT_ERUN, "write failed: %s", errno ? strerror(errno) : "output lost");
+        return kt_fail(e, KT_ERUN, "write failed: %s", errno ? kt_io_cause(errno) : "output lost");
     return KT_OK;
 }
 
@@ -232,7 +232,10 @@ int kt_msh_write(const char *path, const kt_mesh *m, int binary, kt_err *e)
 {
     kt_out o;
     if (kt_out_open(&o, path, e)) return e->code;
-    if (kt_msh_write_file(o.f, m, binary, e)) {
+    kt_err we = {0};
+    if (kt_msh_write_file(o.f, m, binary, &we)) { /* a failed write is named by its file */
+        if (o.is_stdout || kt_out_failed(&o, e) == KT_OK)
+            kt_fail(e, we.code, "%s: %s", o.is_stdout ? "<stdout>" : path, we.msg);
         kt_out_abort(&o);
         return e->code;
     }

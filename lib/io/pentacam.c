@@ -1,6 +1,7 @@
 /* pentacam.c: read a Pentacam CSV map (layout in pentacam.h and keratome-patient(5)). */
 #include "pentacam.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -17,6 +18,8 @@ typedef struct reader {
     int line;                   /* 1-based number of the current line */
     char sep;
     kt_err *e;
+    double lo, hi;              /* the values' range, in the file's units */
+    const char *whose;          /* whose range it is ("" for the reader's own) */
 } reader;
 
 double kt_pentacam_coord(int i) { return -KT_PENTACAM_HALF + KT_PENTACAM_STEP * i; }
@@ -75,9 +78,55 @@ static int lattice(double c)
     return fabs(i - k) < 1e-4 && k >= 0 && k < KT_PENTACAM_N ? (int)k : -1;
 }
 
+/* 1 when the field's text contains word (ASCII, any case). */
+static int has_word(const reader *r, size_t s, int len, const char *word)
+{
+    size_t w = strlen(word);
+    for (int i = 0; i + (int)w <= len; i++) {
+        size_t k = 0;
+        while (k < w && tolower((unsigned char)r->b[s + i + k]) == word[k]) k++;
+        if (k == w) return 1;
+    }
+    return 0;
+}
+
+/* 1 when the field, blanks and a final ':' aside, is exactly word (any case). */
+static int is_word(const reader *r, size_t s, int len, const char *word)
+{
+    while (len > 0 && (r->b[s] == ' ' || r->b[s] == '\t')) s++, len--;
+    while (len > 0 && (r->b[s + len - 1] == ' ' || r->b[s + len - 1] == '\t' || r->b[s + len - 1] == ':')) len--;
+    return len == (int)strlen(word) && has_word(r, s, len, word);
+}
+
+/* What a header line says of the export: its eye, kind, surface and unit (pentacam.h). */
+static void header_line(reader *r, kt_pentacam_map *m, const size_t *start, const int *len, int k)
+{
+    int col0 = (int)r->line_at;
+    for (int i = 0; i < k && i < MAXF; i++) {
+        size_t s = start[i];
+        int col = (int)s - col0 + 1;
+        if (i + 1 < k && i + 1 < MAXF && is_word(r, s, len[i], "eye")) {
+            size_t v = start[i + 1];
+            int vl = len[i + 1], eye = is_word(r, v, vl, "od") || is_word(r, v, vl, "right") ? KT_PENTACAM_OD
+                                       : is_word(r, v, vl, "os") || is_word(r, v, vl, "left") ? KT_PENTACAM_OS : 0;
+            if (eye && !m->eye) m->eye = eye, m->eye_line = r->line, m->eye_col = (int)v - col0 + 1;
+        }
+        int kind = has_word(r, s, len[i], "pachymetr") ? KT_PENTACAM_PACHYMETRY + 1
+                   : has_word(r, s, len[i], "elevation") ? KT_PENTACAM_ELEVATION + 1 : 0;
+        if (kind && !m->head_kind) {
+            m->head_kind = kind, m->kind_line = r->line, m->kind_col = col;
+            m->surface = has_word(r, s, len[i], "front") || has_word(r, s, len[i], "anterior") ? KT_PENTACAM_FRONT
+                         : has_word(r, s, len[i], "back") || has_word(r, s, len[i], "posterior") ? KT_PENTACAM_BACK : 0;
+        }
+        const char *unit = has_word(r, s, len[i], "[mm]") ? "mm"
+                           : has_word(r, s, len[i], "[um]") || has_word(r, s, len[i], "[\xc2\xb5m]") ? "um" : NULL;
+        if (unit && !m->unit[0]) snprintf(m->unit, sizeof m->unit, "%s", unit), m->unit_line = r->line, m->unit_col = col;
+    }
+}
+
 /* Find the x coordinate row: the first line whose fields after the first are all numbers and
- * at least 10 of them; it must be the lattice. */
-static int coord_row(reader *r, size_t *start, int *len, size_t *next)
+ * at least 10 of them; it must be the lattice. The lines before it are the header. */
+static int coord_row(reader *r, kt_pentacam_map *m, size_t *start, int *len, size_t *next)
 {
     for (int h = 0; h <= KT_PENTACAM_HEADER_MAX && r->line_at < r->n; h++) {
         r->sep = 0;
@@ -102,6 +151,7 @@ static int coord_row(reader *r, size_t *start, int *len, size_t *next)
             }
             return KT_OK;
         }
+        header_line(r, m, start, len, k);
         r->line_at = *next, r->line++;
     }
     return kt_fail(r->e, KT_EINPUT, "%s: expected a Pentacam map export: no row of the grid's %d x coordinates "
@@ -112,7 +162,7 @@ static int read_rows(reader *r, int kind, kt_pentacam_map *m, size_t *start, int
 {
     unsigned char seen[KT_PENTACAM_N] = {0};
     int rows = 0;
-    double lo = kind == KT_PENTACAM_ELEVATION ? -0.5 : 100, hi = kind == KT_PENTACAM_ELEVATION ? 8 : 2000;
+    double lo = r->lo, hi = r->hi;
     const char *unit = kind == KT_PENTACAM_ELEVATION ? "mm" : "um";
     while (rows < KT_PENTACAM_N) {
         r->line_at = next, r->line++;
@@ -140,8 +190,8 @@ static int read_rows(reader *r, int kind, kt_pentacam_map *m, size_t *start, int
                 continue;
             }
             if (!(v >= lo && v <= hi))
-                return fail_at(r, start[i + 1], "expected %s in %s within [%g, %g] (or -1: no data), found %g",
-                               kind == KT_PENTACAM_ELEVATION ? "an elevation" : "a pachymetry", unit, lo, hi, v);
+                return fail_at(r, start[i + 1], "expected %s in %s within [%g, %g]%s (or -1: no data), found %g",
+                               kind == KT_PENTACAM_ELEVATION ? "an elevation" : "a pachymetry", unit, lo, hi, r->whose, v);
             m->v[j * KT_PENTACAM_N + i] = kind == KT_PENTACAM_ELEVATION ? v : v / 1000;
             m->nvalid++;
         }
@@ -152,10 +202,17 @@ static int read_rows(reader *r, int kind, kt_pentacam_map *m, size_t *start, int
 
 int kt_pentacam_read(const char *path, int kind, kt_pentacam_map *m, kt_err *e)
 {
+    int elev = kind == KT_PENTACAM_ELEVATION;
+    return kt_pentacam_read_range(path, kind, elev ? -0.5 : 100, elev ? 8 : 2000, "", m, e);
+}
+
+int kt_pentacam_read_range(const char *path, int kind, double lo, double hi, const char *whose, kt_pentacam_map *m,
+                           kt_err *e)
+{
     memset(m, 0, sizeof *m);
     kt_cursor c;
     if (kt_cursor_open(&c, path, "", KT_PENTACAM_MAX_BYTES, e)) return e->code; /* no magic */
-    reader r = {c.path, (const char *)c.b, c.n, 0, 1, 0, e};
+    reader r = {c.path, (const char *)c.b, c.n, 0, 1, 0, e, lo, hi, whose ? whose : ""};
     size_t *start = kt_calloc(MAXF, sizeof(size_t), e), next = 0;
     int *len = kt_calloc(MAXF, sizeof(int), e);
     m->kind = kind;
@@ -163,7 +220,7 @@ int kt_pentacam_read(const char *path, int kind, kt_pentacam_map *m, kt_err *e)
     m->v = kt_calloc((size_t)KT_PENTACAM_N * KT_PENTACAM_N, sizeof(double), e);
     int rc = start && len && m->v ? KT_OK : e->code;
     if (rc == KT_OK && memchr(c.b, '\0', c.n)) rc = kt_fail(e, KT_EINPUT, "%s: expected a text file, found a NUL byte", c.path);
-    if (rc == KT_OK) rc = coord_row(&r, start, len, &next);
+    if (rc == KT_OK) rc = coord_row(&r, m, start, len, &next);
     if (rc == KT_OK) rc = read_rows(&r, kind, m, start, len, next);
     if (rc == KT_OK && m->nvalid == 0) rc = kt_fail(e, KT_EINPUT, "%s: expected measured cells, every cell is empty", c.path);
     free(start), free(len);

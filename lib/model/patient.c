@@ -4,6 +4,8 @@
 
 #include <ctype.h>
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,6 +15,10 @@
 #include "yml.h"
 
 #define MMHG 133.322387415e-6 /* MPa per mmHg (conventional millimetre of mercury) */
+/* The patient file's range of a pachymetry, mm (central_thickness, thickness_at_zone, and every
+ * cell of a Pentacam pachymetry map). */
+#define PACHY_LO 0.3
+#define PACHY_HI 1.2
 
 static const char *const TOP_KEYS[] = {"name", "description", "eye", "age", "iop", "cornea",
                                        "main_incision", "side_port", "target", "constraints", NULL};
@@ -169,7 +175,7 @@ static int parse_cornea(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *
     yaml_node_t *tc = kt_yml_get(y, n, "central_thickness");
     if (tc && p->pentacam_pachy[0])
         return kt_yml_fail(y, tc, e, "cornea.central_thickness: expected either it or cornea.pentacam.pachymetry, not both");
-    kt_yml_bounds thick = range(0.3, 1.2, 0, 0);
+    kt_yml_bounds thick = range(PACHY_LO, PACHY_HI, 0, 0);
     if (kt_yml_key_quantity(y, n, w, "central_thickness", KT_UNIT_LENGTH, thick, &p->t_central, e) ||
         kt_yml_key_quantity(y, n, w, "thickness_at_zone", KT_UNIT_LENGTH, thick, &p->t_zone, e) ||
         kt_yml_key_quantity(y, n, w, "white_to_white", KT_UNIT_LENGTH, range(9, 14, 0, 0), &p->wtw, e))
@@ -326,10 +332,96 @@ static int check(kt_yml *y, const yaml_node_t *root, kt_patient *p, kt_err *e)
     return KT_OK;
 }
 
+static const char *const FIELD_NAMES[KT_PF_N] = {
+    "patient", "eye", "age", "cornea", "cornea.keratometry", "cornea.posterior", "cornea.pentacam.front",
+    "cornea.pentacam.back", "cornea.pentacam.pachymetry", "cornea.central_thickness", "cornea.thickness_at_zone",
+    "cornea.white_to_white", "main_incision", "constraints.zone", "constraints.depth"};
+
+/* The positions of the fields a later refusal may name. */
+static void record_marks(kt_yml *y, const yaml_node_t *root, kt_patient *p)
+{
+    yaml_node_t *c = kt_yml_get(y, root, "cornea"), *pc = kt_yml_get(y, c, "pentacam"),
+                *cons = kt_yml_get(y, root, "constraints");
+    const yaml_node_t *n[KT_PF_N] = {
+        root, kt_yml_get(y, root, "eye"), kt_yml_get(y, root, "age"), c, kt_yml_get(y, c, "keratometry"),
+        kt_yml_get(y, c, "posterior"), kt_yml_get(y, pc, "front"), kt_yml_get(y, pc, "back"),
+        kt_yml_get(y, pc, "pachymetry"), kt_yml_get(y, c, "central_thickness"), kt_yml_get(y, c, "thickness_at_zone"),
+        kt_yml_get(y, c, "white_to_white"), kt_yml_get(y, root, "main_incision"), kt_yml_get(y, cons, "zone"),
+        kt_yml_get(y, cons, "depth")};
+    for (int i = 0; i < KT_PF_N; i++)
+        if (n[i]) p->mark[i][0] = kt_yml_line(n[i]), p->mark[i][1] = kt_yml_col(n[i]);
+}
+
+int kt_patient_fail(const kt_patient *p, kt_err *e, int field, int fallback, const char *fmt, ...)
+{
+    int at = p->mark[field][0] ? field : fallback >= 0 && p->mark[fallback][0] ? fallback : -1;
+    char msg[700];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return kt_fail(e, KT_EINPUT, "%s:%d:%d: %s: %s", p->path, at >= 0 ? p->mark[at][0] : 1, at >= 0 ? p->mark[at][1] : 1,
+                   FIELD_NAMES[field], msg);
+}
+
+int kt_patient_read_map(const kt_patient *p, int field, kt_pentacam_map *m, kt_err *e)
+{
+    const char *path = field == KT_PF_FRONT ? p->pentacam_front : field == KT_PF_BACK ? p->pentacam_back : p->pentacam_pachy;
+    int pachy = field == KT_PF_PACHYMETRY, kind = pachy ? KT_PENTACAM_PACHYMETRY : KT_PENTACAM_ELEVATION;
+    char whose[1200];
+    snprintf(whose, sizeof whose, " (the patient file's range for a pachymetry, %s:%d:%d)", p->path, p->mark[field][0],
+             p->mark[field][1]);
+    int rc = pachy ? kt_pentacam_read_range(path, kind, 1000 * PACHY_LO, 1000 * PACHY_HI, whose, m, e)
+                   : kt_pentacam_read(path, kind, m, e);
+    if (rc) return rc;
+    static const char *const EYE[] = {"", "OD", "OS"};
+    const char *want = p->eye == KT_EYE_OS ? "OS" : "OD";
+    if (m->eye && strcmp(EYE[m->eye], want) != 0)
+        rc = kt_fail(e, KT_EINPUT, "%s:%d:%d: expected an export of the patient's eye %s (%s:%d:%d: eye), the export's "
+                     "header says %s", path, m->eye_line, m->eye_col, want, p->path, p->mark[KT_PF_EYE][0],
+                     p->mark[KT_PF_EYE][1], EYE[m->eye]);
+    int want_surface = field == KT_PF_FRONT ? KT_PENTACAM_FRONT : field == KT_PF_BACK ? KT_PENTACAM_BACK : 0;
+    static const char *const KIND[] = {"", "an elevation", "a pachymetry"}, *const SURF[] = {"", "front", "back"};
+    if (!rc && m->head_kind && (m->head_kind != kind + 1 || (want_surface && m->surface && m->surface != want_surface)))
+        rc = kt_fail(e, KT_EINPUT, "%s:%d:%d: expected %s map%s%s (%s:%d:%d: %s), the export's header says %s%s%s", path,
+                     m->kind_line, m->kind_col, KIND[kind + 1], want_surface ? " of the " : "", SURF[want_surface],
+                     p->path, p->mark[field][0], p->mark[field][1], FIELD_NAMES[field], KIND[m->head_kind],
+                     m->surface ? " of the " : "", SURF[m->surface]);
+    if (!rc && m->unit[0] && strcmp(m->unit, pachy ? "um" : "mm") != 0)
+        rc = kt_fail(e, KT_EINPUT, "%s:%d:%d: expected %s in %s (keratome-patient(5), THE PENTACAM EXPORT), the export's "
+                     "header says %s", path, m->unit_line, m->unit_col, pachy ? "a pachymetry" : "elevations",
+                     pachy ? "um" : "mm", m->unit);
+    if (rc) kt_pentacam_free(m);
+    return rc;
+}
+
+int kt_patient_check_fit(const kt_patient *p, int post_fit, int pachy_fit, kt_err *e)
+{
+    double ks = kt_patient_k(p->ant.r_steep), kf = kt_patient_k(p->ant.r_flat);
+    if (!(ks >= 20 && ks <= 70 && kf >= 20 && kf <= 70))
+        return kt_patient_fail(p, e, KT_PF_FRONT, -1, "the fit of %s gives K %.2f / %.2f D: expected keratometry within "
+                               "[20, 70] D (the patient file's range)", p->pentacam_front, ks, kf);
+    double ps = kt_patient_post_k(p->post.r_steep), pf = kt_patient_post_k(p->post.r_flat);
+    if (post_fit && !(ps >= -15 && ps <= -2 && pf >= -15 && pf <= -2))
+        return kt_patient_fail(p, e, KT_PF_BACK, -1, "the fit of %s gives a posterior power %.2f / %.2f D: expected "
+                               "within [-15, -2] D (the patient file's range)", p->pentacam_back, ps, pf);
+    double ra = 2 / (1 / p->ant.r_steep + 1 / p->ant.r_flat), rp = 2 / (1 / p->post.r_steep + 1 / p->post.r_flat);
+    if (post_fit && !(rp < ra))
+        return kt_patient_fail(p, e, KT_PF_BACK, -1, "the fit of %s gives a mean radius of %.3f mm, the front map's "
+                               "(%s) %.3f mm: expected the back surface more curved than the front (swapped maps?)",
+                               p->pentacam_back, rp, p->pentacam_front, ra);
+    if (pachy_fit && !(p->t_central >= PACHY_LO && p->t_central <= PACHY_HI))
+        return kt_patient_fail(p, e, KT_PF_PACHYMETRY, -1, "the fit of %s gives a central pachymetry of %.0f um: "
+                               "expected within [%g, %g] um (the patient file's range)", p->pentacam_pachy,
+                               1000 * p->t_central, 1000 * PACHY_LO, 1000 * PACHY_HI);
+    return KT_OK;
+}
+
 static int parse(kt_yml *y, kt_patient *p, kt_err *e)
 {
     yaml_node_t *root = kt_yml_root(y, e);
     if (!root || kt_yml_check_map(y, root, "patient", TOP_KEYS, e)) return e->code;
+    record_marks(y, root, p);
     yaml_node_t *n = kt_yml_get(y, root, "name");
     if (n && kt_yml_string(y, n, "name", p->name, sizeof p->name, e)) return e->code;
     if (!kt_yml_require(y, root, "eye", "patient", e) || !kt_yml_require(y, root, "age", "patient", e) ||

@@ -10,6 +10,7 @@
 #ifndef KT_PATIENT_H
 #define KT_PATIENT_H
 
+#include "pentacam.h"
 #include "scene.h"
 
 enum { KT_EYE_OD = 0, KT_EYE_OS = 1 };
@@ -45,8 +46,15 @@ typedef struct kt_toric {
     int source;                 /* KT_SOURCE_* */
 } kt_toric;
 
+/* The patient file's fields whose position a later refusal names (kt_patient_fail). */
+enum {
+    KT_PF_FILE = 0, KT_PF_EYE, KT_PF_AGE, KT_PF_CORNEA, KT_PF_KERATOMETRY, KT_PF_POSTERIOR, KT_PF_FRONT, KT_PF_BACK,
+    KT_PF_PACHYMETRY, KT_PF_CENTRAL, KT_PF_T_ZONE, KT_PF_WTW, KT_PF_MAIN, KT_PF_ZONE, KT_PF_DEPTH, KT_PF_N
+};
+
 typedef struct kt_patient {
     char path[1024], dir[1024];
+    int mark[KT_PF_N][2];       /* line and column of each KT_PF_* field in the file; 0 0: absent */
     char name[KT_NAME_MAX];
     int eye;                    /* KT_EYE_OD or KT_EYE_OS */
     double age;                 /* years */
@@ -81,6 +89,27 @@ typedef struct kt_patient {
  * A Pentacam cornea leaves ant (and post, t_central when the export has them) to be filled
  * from the fit (lib/optics/surffit.h) by the caller. */
 int kt_patient_load(const char *path, kt_patient *p, kt_err *e);
+
+/* Record KT_EINPUT "PATIENT:line:col: FIELD: message" at the patient file's field `field`
+ * (KT_PF_*), or at the first of the fallbacks (-1 ends the list) that the file has, else at
+ * 1:1; returns it. Every refusal a patient file causes after it loads goes through here, so it
+ * names the file, the line, the column and the field. */
+int kt_patient_fail(const kt_patient *p, kt_err *e, int field, int fallback, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+
+/* One of the patient's Pentacam maps (KT_PF_FRONT, KT_PF_BACK, KT_PF_PACHYMETRY), read with the
+ * patient file's range for its values (pachymetry: 300-1200 um, the range of central_thickness
+ * and thickness_at_zone) and its header checked against the patient file: the eye (an OD export
+ * for an `eye: OS` patient is refused at the header's line and column), the kind and surface
+ * (a back elevation named as the front map, a pachymetry as an elevation) and the unit (mm for
+ * elevations, um for pachymetry). The grid is the reader's check. KT_EINPUT on any of it. */
+int kt_patient_read_map(const kt_patient *p, int field, kt_pentacam_map *m, kt_err *e);
+
+/* After the fits: the fitted anterior keratometry within the patient file's range for
+ * keratometry (20-70 D), the posterior within [-15, -2] D and its mean radius smaller than the
+ * anterior's (else the maps are swapped), the fitted central pachymetry within 300-1200 um;
+ * each refusal at the map's field. post_fit / pachy_fit: 1 when those maps were fitted. */
+int kt_patient_check_fit(const kt_patient *p, int post_fit, int pachy_fit, kt_err *e);
 
 /* The pachymetry at the incision zone (mm) of the default eye's thickness profile
  * (keratome-scene(5): peripheral_thickness 670 um at the limbus) with the patient's cornea,

@@ -66,10 +66,13 @@ int kt_patient_scene(const kt_patient *p, const kt_scene *base, kt_scene *s, kt_
     ring->depth = p->depth;
     if (!isnan(p->t_zone)) {
         double tp = solve_peripheral(*eye, p->zone / 2, p->t_zone);
-        if (isnan(tp))
-            return kt_fail(e, KT_EINPUT, "%s: cornea.thickness_at_zone %g um: expected a pachymetry the eye model can "
-                           "reach at the %g mm zone with a limbal thickness in [%g, 2000] um",
-                           p->path, 1000 * p->t_zone, p->zone, 1000 * p->t_central);
+        if (isnan(tp)) /* named where the value came from: the field, else the pachymetry map */
+            return kt_patient_fail(p, e, p->mark[KT_PF_T_ZONE][0] ? KT_PF_T_ZONE : KT_PF_PACHYMETRY, KT_PF_CORNEA,
+                                   "%g um at the %g mm zone: expected a pachymetry the eye model can reach there from "
+                                   "the central %g um (a limbal thickness of at most 2000 um) with the anterior radii "
+                                   "%.3f / %.3f mm (K %.2f / %.2f D: %s)", 1000 * p->t_zone, p->zone, 1000 * p->t_central,
+                                   p->ant.r_steep, p->ant.r_flat, kt_patient_k(p->ant.r_steep), kt_patient_k(p->ant.r_flat),
+                                   p->ant.source == KT_SOURCE_PENTACAM ? "the front map's fit" : "cornea.keratometry");
         eye->t_peripheral = tp;
     }
     if (eye->optical_zone >= p->zone) eye->optical_zone = 0.5 * (p->zone + 5);
@@ -87,7 +90,9 @@ int kt_patient_scene(const kt_patient *p, const kt_scene *base, kt_scene *s, kt_
     s->ordering_sector = fmin(p->max_arc / 2 + 5, 89.9);
     eye->floor_centre = s->ordering_centre, eye->floor_sector = s->ordering_sector;
     kt_eye_geom g;
-    if (kt_eye_geom_init(eye, &g, e)) return e->code;
     double top[2], dir[2], depth;
-    return kt_eye_geom_ring(&g, eye, 0, top, dir, &depth, e);
+    kt_err ge = {0}; /* the patient's eye that does not make a geometry: named at its cornea */
+    if (kt_eye_geom_init(eye, &g, &ge) || kt_eye_geom_ring(&g, eye, 0, top, dir, &depth, &ge))
+        return kt_patient_fail(p, e, KT_PF_CORNEA, -1, "the patient's eye: %s", ge.msg);
+    return KT_OK;
 }

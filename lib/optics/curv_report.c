@@ -761,7 +761,7 @@ int kt_curv_report_write(const char *path, const kt_report *r, kt_err *e)
     kt_out o;
     if (kt_out_open(&o, path, e) != KT_OK) return e->code;
     int rc = page(o.f, r, e);
-    if (rc == KT_OK && ferror(o.f)) rc = kt_fail(e, KT_ERUN, "%s: write error", path);
+    if (rc == KT_OK) rc = kt_out_failed(&o, e);
     if (rc != KT_OK) {
         kt_out_abort(&o);
         return rc;

@@ -416,13 +416,14 @@ static int factorize(kt_plan_factor *F, const int *P, int factor, int panel, dou
     if (!F->refused && kt_plan_split_panels(F->L, F->nK, panel, &F->c, e)) return e->code;
     breakdown(F);
     if (F->refused) return KT_OK;
+    if (kt_chol_budget(F->L, &F->c, "the planned augmented matrix", e)) return e->code;
     cholmod_factorize(F->A, F->L, &F->c);
     if (F->c.status == CHOLMOD_NOT_POSDEF || F->L->minor < F->L->n)
         return kt_fail(e, KT_ERUN, "the planned augmented matrix is not positive definite at "
                        "free variable %d (pivot %zu of %zu): is a body free to move rigidly?",
                        LP[F->L->minor], F->L->minor + 1, F->L->n);
     if (F->c.status != CHOLMOD_OK)
-        return kt_fail(e, KT_ERUN, "CHOLMOD factorization failed (status %d)", F->c.status);
+        return kt_chol_failed(F->c.status, "the planned augmented matrix", e);
     F->nnzL = F->c.lnz;
     return KT_OK;
 }

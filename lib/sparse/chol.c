@@ -26,12 +26,29 @@ void kt_chol_start(cholmod_common *c)
     c->error_handler = to_stderr;
 }
 
+int kt_chol_budget(const cholmod_factor *L, const cholmod_common *c, const char *what, kt_err *e)
+{
+    if (L->xtype != CHOLMOD_PATTERN) return KT_OK;
+    double vals = L->is_super ? (double)L->xsize + (double)L->maxcsize : c->lnz;
+    char w[256];
+    snprintf(w, sizeof w, "%s: the Cholesky factor", what);
+    return kt_mem_budget(sizeof(double) * vals, w, e);
+}
+
+int kt_chol_failed(int status, const char *what, kt_err *e)
+{
+    if (status == CHOLMOD_OUT_OF_MEMORY)
+        return kt_fail(e, KT_ERUN, "%s: CHOLMOD factorization failed: out of memory", what);
+    return kt_fail(e, KT_ERUN, "%s: CHOLMOD factorization failed (status %d)", what, status);
+}
+
 int kt_chol_factor(cholmod_sparse *A, cholmod_factor *L, cholmod_common *c, const char *what,
                    kt_err *e)
 {
+    if (kt_chol_budget(L, c, what, e)) return e->code;
     cholmod_factorize(A, L, c);
     if (c->status != CHOLMOD_OK && c->status != CHOLMOD_NOT_POSDEF)
-        return kt_fail(e, KT_ERUN, "%s: CHOLMOD factorization failed (status %d)", what, c->status);
+        return kt_chol_failed(c->status, what, e);
     if (c->status == CHOLMOD_NOT_POSDEF || L->minor < L->n) {
         int dof = L->Perm ? ((const int *)L->Perm)[L->minor] : (int)L->minor;
         return kt_fail(e, KT_ERUN, "%s: stiffness matrix is not positive definite at node %d, DOF %c "

@@ -15,11 +15,23 @@
  * starts here: a tool's stdout holds only its answer. */
 void kt_chol_start(cholmod_common *c);
 
-/* Factor A numerically into L (analysed before, with A's pattern). KT_ERUN when CHOLMOD fails,
+/* Factor A numerically into L (analysed before, with A's pattern; its memory checked first by
+ * kt_chol_budget). KT_ERUN when CHOLMOD fails,
  * and when a pivot is not positive: then the message, prefixed by 'what' (e.g. "step 3"),
  * names the node (1-based) and component of the DOF, and the pivot's position. */
 int kt_chol_factor(cholmod_sparse *A, cholmod_factor *L, cholmod_common *c, const char *what,
                    kt_err *e);
+
+/* The memory a numeric factorization of the analysed L takes (the factor's values, sized
+ * exactly by the symbolic analysis: L->xsize doubles supernodal, c->lnz simplicial, and the
+ * largest update block), checked against what is left (kt_mem_budget) before any of it is
+ * allocated: KT_ERUN "WHAT: out of memory: needs N MB, ..." when it cannot fit. KT_OK for an L
+ * that holds values already (a refactorization reuses them). */
+int kt_chol_budget(const cholmod_factor *L, const cholmod_common *c, const char *what, kt_err *e);
+
+/* Records KT_ERUN "WHAT: CHOLMOD factorization failed (status N)", or "...: out of memory"
+ * for CHOLMOD_OUT_OF_MEMORY, and returns it. */
+int kt_chol_failed(int status, const char *what, kt_err *e);
 
 /* cholmod_analyze(A, c), except that every METIS ordering is made here and its status checked.
  * CHOLMOD 3 ignores METIS_NodeND's return status; METIS 5.1 catches a SIGTERM that arrives
