@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "nomo.h"
+#include "nomo_out.h"
 
 static const char usage[] =
     "usage: lri-nomogram --k-steep D --k-flat D --axis DEG --age YEARS [options] [NOMOGRAM.tsv]\n"
@@ -15,13 +16,15 @@ static const char usage[] =
     "with the predicted residual cylinder. Without NOMOGRAM.tsv, the table shipped in\n"
     "share/nomogram/nomogram.tsv (the quick study's: one eye, paired arcs).\n"
     "  --k-steep D, --k-flat D  keratometry, D (required)\n"
-    "  --axis DEG               steep axis, deg, [0, 180) (required)\n"
-    "  --age YEARS              the patient's age (required)\n"
-    "  --sia D --sia-axis DEG   the main incision's SIA vector (the surgeon's own), added to the\n"
+    "  --axis DEG               steep axis, deg, [0, 180], 180 read as 0 (required)\n"
+    "  --age YEARS              the patient's age, [18, 110] (required)\n"
+    "  --sia D --sia-axis DEG   the main incision's SIA vector (the surgeon's own; the axis of\n"
+    "                           the induced steepening, as lri-plan's sia), added to the\n"
     "                           keratometric astigmatism by double-angle sum (default none)\n"
     "  --target D               the cylinder to correct (default: of the sum above)\n"
     "  --depth F                incision depth fraction (default: the table's deepest)\n"
     "  --diameter MM            incision diameter (default: the table's most frequent)\n"
+    "      --json               the answer as one JSON object instead of the table\n"
     "  -h, --help               this help\n"
     "      --version            the version\n"
     "Exit status: 0 success, 1 run-time failure, 2 bad usage or input.\n";
@@ -32,52 +35,24 @@ static int bad(const char *opt, const char *arg, const char *what)
     return KT_EINPUT;
 }
 
-/* A band's number, "NaN" when the table has none. */
-static void print_sd(double v)
-{
-    if (isnan(v)) printf("\tNaN");
-    else printf("\t%.2f", v);
-}
-
-static void print_answer(const kt_nomo_answer *a)
-{
-    /* A residual that prints as 0.00 D has no axis: "none" (lri-nomogram(1)). */
-    char axis[16] = "none";
-    if (a->residual >= 0.005) snprintf(axis, sizeof axis, "%.0f", a->residual_axis);
-    printf("%d\t%.1f\t%.2f\t%.2f\t%s", a->incisions, a->arc, a->sia,
-           a->residual < 0.005 ? 0.0 : a->residual, axis);
-    print_sd(a->sia_sd), print_sd(a->residual_sd), print_sd(a->residual_lo90), print_sd(a->residual_hi90);
-    printf("\t%g-%g\t%g-%g\t%s\t", a->arc_lo, a->arc_hi, a->age_lo, a->age_hi,
-           a->reached ? (a->arc_lo == a->arc_hi ? "simulated arc" : "interpolated")
-                      : "under-corrects: the longest simulated arc");
-    /* the table's lines used: the lower age's eye, then the higher age's (lri-nomogram(1)) */
-    for (int g = 0; g < 2; g++) {
-        int r0 = a->rows[g][0], r1 = a->rows[g][1];
-        if (g) putchar(';');
-        if (r0 && r1 && r0 != r1) printf("%d,%d", r0, r1);
-        else if (r0 || r1) printf("%d", r0 ? r0 : r1);
-        else printf("-");
-    }
-    putchar('\n');
-}
-
 static int tool_main(int argc, char **argv)
 {
-    enum { O_KS = 256, O_KF, O_AXIS, O_AGE, O_TARGET, O_DEPTH, O_DIAM, O_SIA, O_SIAAX, O_VERSION };
+    enum { O_KS = 256, O_KF, O_AXIS, O_AGE, O_TARGET, O_DEPTH, O_DIAM, O_SIA, O_SIAAX, O_VERSION, O_JSON };
     static const struct option lo[] = {
         {"k-steep", required_argument, 0, O_KS}, {"k-flat", required_argument, 0, O_KF},
         {"axis", required_argument, 0, O_AXIS},  {"age", required_argument, 0, O_AGE},
         {"target", required_argument, 0, O_TARGET}, {"depth", required_argument, 0, O_DEPTH},
         {"diameter", required_argument, 0, O_DIAM}, {"help", no_argument, 0, 'h'},
         {"sia", required_argument, 0, O_SIA}, {"sia-axis", required_argument, 0, O_SIAAX},
-        {"version", no_argument, 0, O_VERSION}, {0, 0, 0, 0}};
+        {"version", no_argument, 0, O_VERSION}, {"json", no_argument, 0, O_JSON}, {0, 0, 0, 0}};
     kt_nomo_query q = {NAN, NAN, NAN, NAN, NAN, 0, 0, NAN, NAN};
-    int c, li = -1;
+    int c, li = -1, as_json = 0;
     opterr = 0; /* one line of our own for a bad option */
     while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
         double v;
         if (c == 'h') { fputs(usage, stdout); return kt_stdout_done("lri-nomogram"); }
         if (c == O_VERSION) { puts("lri-nomogram (keratome) " KT_VERSION); return kt_stdout_done("lri-nomogram"); }
+        if (c == O_JSON) { as_json = 1; continue; }
         if (c == '?' || c == ':') {
             const char *arg = argv[optind - 1];
             if (c == ':') fprintf(stderr, "lri-nomogram: %s: expected a value (lri-nomogram --help)\n", arg);
@@ -95,16 +70,17 @@ static int tool_main(int argc, char **argv)
         case O_KF:
             if (!(v >= KT_NOMO_K_MIN && v <= KT_NOMO_K_MAX))
                 return bad(c == O_KS ? "--k-steep" : "--k-flat", optarg,
-                           "a keratometry reading in [30, 70] D");
+                           "a keratometry reading in [20, 70] D");
             if (c == O_KS) q.k_steep = v;
             else q.k_flat = v;
             break;
         case O_AXIS:
-            if (!(v >= 0 && v < 180)) return bad("--axis", optarg, "an axis in [0, 180) deg");
-            q.axis = v;
+            if (!(v >= 0 && v <= 180)) return bad("--axis", optarg, "an axis in [0, 180] deg");
+            q.axis = v >= 180 ? 0 : v; /* 180 read as 0, as keratome-patient(5) reads it */
             break;
         case O_AGE:
-            if (!(v > 0 && v < 150)) return bad("--age", optarg, "an age in years");
+            if (!(v >= KT_NOMO_AGE_MIN && v <= KT_NOMO_AGE_MAX))
+                return bad("--age", optarg, "an age in [18, 110] years");
             q.age = v;
             break;
         case O_TARGET:
@@ -121,12 +97,12 @@ static int tool_main(int argc, char **argv)
             q.diameter = v;
             break;
         case O_SIA:
-            if (!(v >= 0 && v <= 5)) return bad("--sia", optarg, "the main incision's SIA in [0, 5] D");
+            if (!(v >= 0 && v <= KT_NOMO_SIA_MAX)) return bad("--sia", optarg, "the main incision's SIA in [0, 5] D");
             q.main_sia = v;
             break;
         case O_SIAAX:
-            if (!(v >= 0 && v < 180)) return bad("--sia-axis", optarg, "an axis in [0, 180) deg");
-            q.main_axis = v;
+            if (!(v >= 0 && v <= 180)) return bad("--sia-axis", optarg, "an axis in [0, 180] deg");
+            q.main_axis = v >= 180 ? 0 : v;
             break;
         }
     }
@@ -194,23 +170,10 @@ static int tool_main(int argc, char **argv)
         fprintf(stderr, "lri-nomogram: %s\n", e.msg);
         return rc;
     }
-    const kt_nomo_answer *any = ans[0].incisions ? &ans[0] : &ans[1];
-    if (q.main_sia > 0)
-        printf("# keratometric %.2f D @ %g deg plus the main incision's SIA %.2f D @ %g deg: %.2f D @ %.0f deg\n",
-               q.k_steep - q.k_flat, q.axis, q.main_sia, q.main_axis, pre, pre_axis);
-    printf("# pre-op %.2f D @ %.0f deg, age %g y, target %.2f D; incisions centred on %.0f deg, "
-           "depth %g, diameter %g mm\n",
-           pre, pre_axis, q.age, q.target, pre_axis, any->depth, any->diameter);
-    if (isnan(any->sia_sd))
-        printf("# no band: the table has no sia_sd_D column (a table made before issue 21; remake it with "
-               "make -C plans/studies/nomogram)\n");
-    else
-        printf("# band: the SIA's first-order sd of the simulated cases (tissue quantities only: "
-               "lri-nomogram(1), BAND) and the residual's 90%% interval\n");
-    printf("incisions\tarc_deg\tsia_D\tresidual_D\tresidual_axis_deg\tsia_sd_D\tresidual_sd_D"
-           "\tresidual_lo90_D\tresidual_hi90_D\tbetween_arcs_deg\tages_y\tnote\ttable_lines\n");
-    for (int i = 0; i < 2; i++)
-        if (ans[i].incisions) print_answer(&ans[i]);
+    if (kt_nomo_print(stdout, &q, pre, pre_axis, ans, as_json, &e)) {
+        fprintf(stderr, "lri-nomogram: %s\n", e.msg);
+        return e.code;
+    }
     return kt_stdout_done("lri-nomogram");
 }
 

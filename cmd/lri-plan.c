@@ -2,7 +2,9 @@
 #define _POSIX_C_SOURCE 200809L
 #include <getopt.h>
 #include <stdio.h>
+#include <string.h>
 
+#include "lriplan_eye.h"
 #include "lriplan_run.h"
 
 static const char usage[] =
@@ -13,8 +15,15 @@ static const char usage[] =
     "      --base SCENE    the base eye scene (default: the repository's plans/eye.yaml)\n"
     "      --fast          a coarse mesh, the incision floor refined at 0.1 mm\n"
     "      --step DEG      arc opened per step, deg (default 5)\n"
-    "      --no-uncertainty  no first-order band on the predicted residual (augsolve without\n"
-    "                      --uncertainty: the runs cost up to a quarter less)\n"
+    "      --state S       the wound the plan is made for: healed (default: the outcome months\n"
+    "                      later, the identified scar) or immediate (the instant of cutting)\n"
+    "      --view V        how plan.html draws the eye: temporal (default: the surgeon seated\n"
+    "                      temporal), superior (seated at the head) or examiner (facing the\n"
+    "                      patient, superior up)\n"
+    "      --no-uncertainty  no band on the predicted residual (no derivatives: the runs cost\n"
+    "                      up to a quarter less)\n"
+    "      --plan-max-ratio R  the planned method's factor limit (augsolve(1)); beyond it a\n"
+    "                      family falls back to refactor, said on stderr and in plan.json\n"
     "  -q, --quiet         no progress on stderr\n"
     "  -h, --help          this help\n"
     "      --version       the version\n"
@@ -22,12 +31,14 @@ static const char usage[] =
 
 static int tool_main(int argc, char **argv)
 {
-    enum { O_BASE = 256, O_FAST, O_STEP, O_VERSION, O_NOBAND };
+    enum { O_BASE = 256, O_FAST, O_STEP, O_VERSION, O_NOBAND, O_MAXRATIO, O_STATE, O_VIEW };
     static const struct option lo[] = {{"output", required_argument, 0, 'o'}, {"base", required_argument, 0, O_BASE},
                                        {"fast", no_argument, 0, O_FAST},      {"step", required_argument, 0, O_STEP},
                                        {"quiet", no_argument, 0, 'q'},        {"help", no_argument, 0, 'h'},
                                        {"version", no_argument, 0, O_VERSION}, {"no-uncertainty", no_argument, 0, O_NOBAND},
-                                       {0, 0, 0, 0}};
+                                       {"plan-max-ratio", required_argument, 0, O_MAXRATIO},
+                                       {"state", required_argument, 0, O_STATE},
+                                       {"view", required_argument, 0, O_VIEW}, {0, 0, 0, 0}};
     kt_lriplan_opts o;
     kt_lriplan_opts_default(&o);
     int c;
@@ -40,6 +51,27 @@ static int tool_main(int argc, char **argv)
         case O_STEP:
             if (kt_parse_number(optarg, &o.step) || !(o.step > 0 && o.step <= 90)) {
                 fprintf(stderr, "lri-plan: --step %s: expected an angle in (0, 90] deg\n", optarg);
+                return KT_EINPUT;
+            }
+            break;
+        case O_MAXRATIO:
+            if (kt_parse_number(optarg, &o.plan_max_ratio) || !(o.plan_max_ratio >= 0)) {
+                fprintf(stderr, "lri-plan: --plan-max-ratio %s: expected a number >= 0\n", optarg);
+                return KT_EINPUT;
+            }
+            break;
+        case O_STATE:
+            if ((o.state = kt_lriplan_state(optarg)) < 0) {
+                fprintf(stderr, "lri-plan: --state %s: expected healed or immediate\n", optarg);
+                return KT_EINPUT;
+            }
+            break;
+        case O_VIEW:
+            if (strcmp(optarg, "temporal") == 0) o.view = KT_LRI_VIEW_TEMPORAL;
+            else if (strcmp(optarg, "superior") == 0) o.view = KT_LRI_VIEW_SUPERIOR;
+            else if (strcmp(optarg, "examiner") == 0) o.view = KT_LRI_VIEW_EXAMINER;
+            else {
+                fprintf(stderr, "lri-plan: --view %s: expected temporal, superior or examiner\n", optarg);
                 return KT_EINPUT;
             }
             break;

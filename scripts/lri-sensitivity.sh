@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # lri-sensitivity.sh [--scene BASE] BUILD OUT [VARIANT...]: the paired 60-degree LRI
 # (plans/lri-paired-60.yaml) on variants of the eye scene BASE (default plans/eye.yaml), one
-# uncertain parameter moved to an end of its literature range at a time (keratome-scene(5), THE
-# EYE MODEL). Each variant is a sed edit of the scene (V below) and, for the blade-depth
+# uncertain parameter moved to an end of its literature range at a time (docs/physics.md, One
+# parameter at a time). Each variant is a sed edit of the scene (V below) and, for the blade-depth
 # variants, of the plan (P below); the table (scripts/lri-table.sh rows) goes to
 # OUT/sensitivity.tsv with the variant's name first.
 # The variants incision_0.14mm, incision_0.10mm, incision_0.07mm (named explicitly) refine the

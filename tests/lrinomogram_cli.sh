@@ -4,9 +4,11 @@
 # and a cylinder outside what LRIs treat (0.5-3 D) answer with one warning line on stderr; the
 # main incision's SIA vector shifts the answer exactly as the equivalent keratometry does
 # (1.5 D @ 90 with 0.5 D @ 0 is 1.0 D @ 90); without a table it reads the shipped default
-# (share/nomogram/nomogram.tsv) or says in one line how to make one. The band: a table's
+# (share/nomogram/nomogram.tsv) or says in one line how to make one. The conventions shared with
+# lri-plan (axis 180 read as 0 and printed 0, age 18-110, K 20-70 D, the SIA's range). The band: a table's
 # sia_sd_D (curvature's sd) carried to the answer, the residual's sd and 90% interval; zero sd,
-# zero band; a table without the column, none.
+# zero band; a table without the column, none. --json: one object Python's json module reads,
+# its figures the table's (the table rounds them).
 set -uo pipefail
 B=$(cd "$1" && pwd)
 cd "$(dirname "$0")/.."
@@ -46,6 +48,50 @@ expect "option without value" "lri-nomogram: --age: expected a value" $K --age
 expect "--sia alone" "lri-nomogram: --sia-axis: missing" $K --age 60 --sia 0.5 "$tmp/t.tsv"
 expect "bad --sia" "lri-nomogram: --sia 9: expected" $K --age 60 --sia 9 --sia-axis 0 "$tmp/t.tsv"
 expect "two tables" "expected one NOMOGRAM.tsv" $K --age 60 "$tmp/t.tsv" "$tmp/t.tsv"
+# The conventions lri-plan shares (keratome-patient(5), CONVENTIONS): an axis in [0, 180], 180
+# read as 0 and printed in [0, 180) (one that rounds to 180 as 0); an age in [18, 110] y; K in
+# [20, 70] D; the SIA 0-5 D at the axis of its steepening. Beyond: name|args|the one line.
+conv_bad=(
+"axis 180.5|--k-steep 44.5 --k-flat 43 --axis 180.5 --age 60|--axis 180.5: expected an axis in [0, 180] deg"
+"axis -1|--k-steep 44.5 --k-flat 43 --axis -1 --age 60|--axis -1: expected an axis in [0, 180] deg"
+"age 17|$K --age 17|--age 17: expected an age in [18, 110] years"
+"age 110.5|$K --age 110.5|--age 110.5: expected an age in [18, 110] years"
+"sia-axis 181|$K --age 60 --sia 0.3 --sia-axis 181|--sia-axis 181: expected an axis in [0, 180] deg"
+"sia 5.01|$K --age 60 --sia 5.01 --sia-axis 90|--sia 5.01: expected the main incision's SIA in [0, 5] D"
+"k-flat 19|--k-steep 44 --k-flat 19 --axis 90 --age 60|--k-flat 19: expected a keratometry reading in [20, 70] D"
+"k-steep 70.5|--k-steep 70.5 --k-flat 43 --axis 90 --age 60|--k-steep 70.5: expected a keratometry reading in [20, 70] D"
+)
+for c in "${conv_bad[@]}"; do
+    IFS='|' read -r name args want <<< "$c"
+    expect "$name" "lri-nomogram: $want" $args "$tmp/t.tsv"
+done
+# At the ends, accepted and the same answer: name|args|args (stdout compared whole; with "rows"
+# first, the answer's rows only: the comment repeats the age given).
+conv_same=(
+"axis 180 is 0|--k-steep 44.5 --k-flat 43 --axis 180 --age 60|--k-steep 44.5 --k-flat 43 --axis 0 --age 60"
+"sia-axis 180 is 0|$K --age 60 --sia 0.3 --sia-axis 180|$K --age 60 --sia 0.3 --sia-axis 0"
+"--json: axis 180 is 0|--json --k-steep 44.5 --k-flat 43 --axis 180 --age 60 --sia 0.3 --sia-axis 180|--json --k-steep 44.5 --k-flat 43 --axis 0 --age 60 --sia 0.3 --sia-axis 0"
+"rows age 18 answers as 50|$K --age 18|$K --age 50"
+"rows age 110 answers as 70|$K --age 110|$K --age 70"
+"rows K 20 D accepted|--k-steep 21.5 --k-flat 20 --axis 90 --age 60|$K --age 60"
+"rows K 70 D accepted|--k-steep 70 --k-flat 68.5 --axis 90 --age 60|$K --age 60"
+)
+for c in "${conv_same[@]}"; do
+    IFS='|' read -r name a b <<< "$c"
+    filt=cat
+    case $name in rows*) filt="grep -v ^#" ;; esac
+    ra=0 rb=0
+    "$N" $a "$tmp/t.tsv" 2> /dev/null | $filt > "$tmp/ca" || ra=$?
+    "$N" $b "$tmp/t.tsv" 2> /dev/null | $filt > "$tmp/cb" || rb=$?
+    [ $ra -eq 0 ] && [ $rb -eq 0 ] && [ -s "$tmp/ca" ] && cmp -s "$tmp/ca" "$tmp/cb" && ok "$name" ||
+        no "$name: exit $ra/$rb, $(head -c 200 "$tmp/ca") vs $(head -c 200 "$tmp/cb")"
+done
+# Printed as lri-plan prints an axis: 179.8 (and a sum at 179.97) shows 0, never 180.
+"$N" --k-steep 44.5 --k-flat 43 --axis 179.8 --age 60 "$tmp/t.tsv" 2> /dev/null | grep -q "^# pre-op 1.50 D @ 0 deg.*centred on 0 deg" &&
+    ok "axis 179.8 printed 0" || no "axis 179.8: $("$N" --k-steep 44.5 --k-flat 43 --axis 179.8 --age 60 "$tmp/t.tsv" 2>&1 | head -1)"
+"$N" --json --k-steep 44.5 --k-flat 43 --axis 179.97 --age 60 "$tmp/t.tsv" 2> /dev/null |
+    /usr/bin/python3 -c 'import json, sys; sys.exit(0 if json.load(sys.stdin)["pre_op_axis_deg"] == 0 else 1)' &&
+    ok "--json: axis 179.97 printed 0.0" || no "--json: axis 179.97 not printed 0"
 # Warnings: one line each, the answer still given.
 "$N" $K --age 90 "$tmp/t.tsv" > "$tmp/out" 2> "$tmp/err"; rc=$?
 [ $rc -eq 0 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q "warning: --age 90 lies outside the table's simulated ages 50-70 y: clamped to 70 y" "$tmp/err" &&
@@ -106,6 +152,22 @@ read -r sia res ssd rsd lo hi < <(band $K --age 60 "$tmp/t.tsv")
     ok "a table without sia_sd_D: no band (NaN), said in a comment" || no "old table: $ssd $rsd $lo $hi"
 printf 'eye\tage_y\tcyl_pre_D\taxis_deg\tincisions\tarc_deg\tdepth\tdiameter_mm\tsia_D\tsia_axis_deg\tsia_sd_D\ne\t60\t1.5\t90\t2\t30\t0.9\t10.5\t1\t0\t-1\n' > "$tmp/bad.tsv"
 expect "negative sia_sd_D" "bad.tsv:2:" $K --age 60 "$tmp/bad.tsv"
+# --json: the same answer as the table, through the JSON writer.
+if "$N" $K --age 60 --target 1.2 "$tmp/t.tsv" > "$tmp/tab" 2> /dev/null &&
+    "$N" $K --age 60 --target 1.2 --json "$tmp/t.tsv" > "$tmp/json" 2> /dev/null &&
+    /usr/bin/python3 - "$tmp/tab" "$tmp/json" <<'PY'
+import json, sys
+rows = [l.rstrip("\n").split("\t") for l in open(sys.argv[1]) if not l.startswith("#")]
+h, d = rows[0], json.load(open(sys.argv[2]))
+a = d["answers"]
+ok = len(a) == len(rows) - 1 == 2 and d["tool"] == "lri-nomogram"
+for r, q in zip(rows[1:], a):
+    ok = ok and int(r[h.index("incisions")]) == q["incisions"] and abs(float(r[h.index("arc_deg")]) - q["arc_deg"]) <= 0.051
+    ok = ok and abs(float(r[h.index("residual_D")]) - q["residual_D"]) <= 0.0051 and r[h.index("note")] == q["note"]
+    ok = ok and r[h.index("table_lines")] == q["table_lines"]
+sys.exit(0 if ok else 1)
+PY
+then ok "--json: the table's answer as one JSON object"; else no "--json: $(head -c 300 "$tmp/json")"; fi
 # The default table.
 def="$(cd "$(dirname "$0")/.." && pwd)/share/nomogram/nomogram.tsv"
 rc=0

@@ -22,6 +22,16 @@ cases=(
 "mainkind|eye: OD\nage: 68\ncornea: {$K}\nmain_incision: {meridian: temporal, width: 2.4 mm, kind: scleral}|p.yaml:4:58: main_incision.kind: expected one of: clear_corneal, limbal"
 "mainsia|eye: OD\nage: 68\ncornea: {$K}\nmain_incision: {meridian: temporal, width: 2.4 mm, sia: {magnitude: -1 D, axis: 90 deg}}|p.yaml:4:69: main_incision.sia.magnitude: expected a power in [0, 5] D"
 "mainsite|eye: OD\nage: 68\ncornea: {$K}\nmain_incision: {meridian: 400 deg, width: 2.4 mm}|p.yaml:4:27: main_incision.meridian"
+# The conventions lri-nomogram(1) shares (keratome-patient(5)): an axis in [0, 180], 180 read as
+# 0; an age in [18, 110]; the SIA {0-5 D, axis}. Beyond them, refused; at their ends, accepted:
+# the error is then the later bad max_arc's (parsed after them), not theirs.
+"axis180.5|eye: OD\nage: 68\ncornea:\n  keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 180.5 deg}|p.yaml:4:58: cornea.keratometry.steep_axis: expected"
+"age17|eye: OD\nage: 17\ncornea: {$K}|p.yaml:2:6: patient.age: expected"
+"age111|eye: OD\nage: 111\ncornea: {$K}|p.yaml:2:6: patient.age: expected"
+"kflat19|eye: OD\nage: 68\ncornea:\n  keratometry: {k_steep: 44 D, k_flat: 19 D, steep_axis: 90 deg}|p.yaml:4:40: cornea.keratometry.k_flat: expected"
+"siaaxis181|eye: OD\nage: 68\ncornea: {$K}\nmain_incision: {meridian: temporal, width: 2.4 mm, sia: {magnitude: 0.3 D, axis: 181 deg}}|main_incision.sia.axis: expected"
+"ends-ok|eye: OD\nage: 18\ncornea:\n  keratometry: {k_steep: 70 D, k_flat: 20 D, steep_axis: 180 deg}\nmain_incision: {meridian: temporal, width: 2.4 mm, sia: {magnitude: 5 D, axis: 180 deg}}\nconstraints: {max_arc: 200 deg}|constraints.max_arc: expected"
+"age110-ok|eye: OD\nage: 110\ncornea: {$K}\nmain_incision: {meridian: temporal, width: 2.4 mm, sia: {magnitude: 0 D, axis: 0 deg}}\nconstraints: {max_arc: 200 deg}|constraints.max_arc: expected"
 )
 head -n 103 plans/patients/pentacam-front.csv > "$tmp/short.csv"
 for c in "${cases[@]}"; do

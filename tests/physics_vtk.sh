@@ -57,7 +57,11 @@ def q(v):
     return float(num) * UNIT[unit]
 sc = yaml.safe_load(open(f"{tmp}/eye.yaml"))
 eye, mats = sc["eye"], sc["materials"]
-Rs, Rf, wtw, Rg = (q(eye[k]) for k in ("anterior_radius_steep", "anterior_radius_flat", "white_to_white", "globe_radius"))
+Rs, Rf, Rg = (q(eye[k]) for k in ("anterior_radius_steep", "anterior_radius_flat", "globe_radius"))
+# white_to_white: a length (the horizontal) or {horizontal, vertical}; the vertical one of a
+# length is 1.1 mm less (keratome-scene(5)); the cornea's edge is their ellipse
+ww = eye["white_to_white"]
+wtw, wtw_v = (q(ww["horizontal"]), q(ww["vertical"])) if isinstance(ww, dict) else (q(ww), q(ww) - 1.1)
 band, dens = q(eye["fibres"]["limbal_band"]), float(eye["fibres"]["limbal_density"])
 p_iop = q(sc["loads"]["pressure"]["value"])
 # mean anterior sphere: radius 2 / (1/Rs + 1/Rf), through the corneal edge (rho = wtw/2) on the
@@ -81,11 +85,17 @@ def expected(pc, region):
     a1 = unit(np.array([1.0, 0, 0]) - n[0] * n)
     a2 = np.cross(n, a1)
     rho = math.hypot(pc[0], pc[1])
+    # on the oval cornea: the edge in this meridian, the normal / tangent of the ellipse of the
+    # white-to-white's semi-axes a, b through pc as radial / circumferential
+    a, b = rc, wtw_v / 2
+    edge = a * b / math.hypot(b * pc[0] / rho, a * pc[1] / rho)
+    nx, ny = pc[0] * b * b, pc[1] * a * a
     w = 1.0
     if cornea:
-        s = min(max((rho - (rc - band)) / band, 0.0), 1.0)
+        s = min(max((rho - (edge - band)) / band, 0.0), 1.0)
         w = s * s * (3 - 2 * s)
-    c = unit(np.array([-pc[1] / rho, pc[0] / rho, 0]) - (-pc[1] * n[0] + pc[0] * n[1]) / rho * n)
+    t = np.array([-ny, nx, 0]) / math.hypot(nx, ny)
+    c = unit(t - t.dot(n) * n)
     # the turn: w times the tangent-plane angle from a1 to the radial direction c x n, reduced
     # to [-45, 45] deg, about n from a1 towards a2
     r = np.cross(c, n)

@@ -26,6 +26,7 @@
 #include "sens.h"
 #include "vtk.h"
 #include "wound.h"
+#include "yml.h"
 
 /* Everything the run holds, freed in one place. */
 typedef struct run {
@@ -46,6 +47,7 @@ typedef struct run {
     unsigned char *want;        /* nsteps+1: steps to write (--steps) */
     kt_solver *sv;
     kt_out tsv;
+    kt_tsvw tw;                 /* steps.tsv's writer */
     int tsv_open;
     char scene_path[PATH_MAX];
     unsigned long long plan_hash; /* the header's plan file as it was when the run started */
@@ -300,70 +302,69 @@ static int bridge_field(const kt_wound *w, const kt_mesh *m, double *b, kt_err *
     return KT_OK;
 }
 
+int kt_aug_step_vtk(const char *path, const kt_aug_step_fields *sf, int binary, kt_err *e)
+{
+    const kt_mesh *m = sf->mesh;
+    double *origin = kt_calloc((size_t)m->nn, sizeof(double), e);
+    double *bridge = kt_calloc((size_t)(m->ne ? m->ne : 1), sizeof(double), e);
+    if (!origin || !bridge || bridge_field(sf->wound, m, bridge, e)) {
+        free(origin), free(bridge);
+        return e->code;
+    }
+    for (int i = 0; i < m->nn; i++) origin[i] = sf->origin[i] + 1;
+    kt_vtk_field f[4 + KT_UQ_N + KT_PHYSICS_NFIELD] = {
+        {"displacement", 3, 0, 0, (double *)sf->u}, {"origin", 1, 0, 1, origin}, {"reaction", 3, 0, 0, (double *)sf->react}};
+    int nf = sf->react ? 3 : 2;
+    for (int k = 0; sf->sens && k < sf->sens->nd; k++, nf++) { /* du/dq, mm per unit of q */
+        memset(&f[nf], 0, sizeof f[nf]);
+        snprintf(f[nf].name, sizeof f[nf].name, "dudp_%s", kt_uq_name(sf->sens->d[k].q));
+        f[nf].ncomp = 3;
+        f[nf].v = (double *)sf->dudp[k];
+    }
+    if (sf->wound) f[nf++] = (kt_vtk_field){"bridge", 1, 1, 0, bridge}; /* a healed wound's */
+    for (int k = 0; sf->ph && k < sf->ph->ncell; k++) f[nf++] = sf->ph->cell[k];
+    kt_vtk_write_tets(path, m, f, nf, binary, e);
+    free(origin), free(bridge);
+    return e->code;
+}
+
 /* The step's VTK: the cut mesh, its displacement (NaN off the --output set), origins and
  * reactions (none with --output); step 0's also the per-tet inputs of the physics (the cut
  * keeps the tets, so step 0's fields hold on every step: written once, keratome-vtk(5)). */
 static int write_vtk(run *r, const kt_aug_run_opts *o, kt_err *e)
 {
     if (!o->vtk) return KT_OK;
-    const kt_mesh *m = kt_solver_mesh(r->sv);
     const double *react = kt_solver_reaction(r->sv, e);
     if (e->code) return e->code;
-    const int *org = kt_solver_origin(r->sv);
     char path[PATH_MAX];
     snprintf(path, sizeof path, "%s/step-%04d.vtk", o->run_dir, kt_solver_at(r->sv));
-    double *origin = kt_calloc((size_t)m->nn, sizeof(double), e);
-    double *bridge = kt_calloc((size_t)(m->ne ? m->ne : 1), sizeof(double), e);
-    if (!origin || !bridge || bridge_field(r->fem.wound, m, bridge, e)) {
-        free(origin);
-        free(bridge);
-        return e->code;
-    }
-    for (int i = 0; i < m->nn; i++) origin[i] = org[i] + 1;
-    kt_vtk_field f[4 + KT_UQ_N + KT_PHYSICS_NFIELD] = {
-        {"displacement", 3, 0, 0, (double *)kt_solver_u(r->sv)},
-        {"origin", 1, 0, 1, origin},
-        {"reaction", 3, 0, 0, (double *)react}};
-    int nf = react ? 3 : 2;
-    for (int k = 0; o->uncertainty && k < r->S->nd; k++, nf++) { /* du/dq, mm per unit of q */
-        memset(&f[nf], 0, sizeof f[nf]);
-        snprintf(f[nf].name, sizeof f[nf].name, "dudp_%s", kt_uq_name(r->S->d[k].q));
-        f[nf].ncomp = 3;
-        f[nf].v = (double *)kt_solver_dudp(r->sv, k);
-    }
-    if (r->fem.wound) f[nf++] = (kt_vtk_field){"bridge", 1, 1, 0, bridge}; /* a healed wound's */
-    for (int k = 0; kt_solver_at(r->sv) == 0 && k < r->ph->ncell; k++) f[nf++] = r->ph->cell[k];
-    kt_vtk_write_tets(path, m, f, nf, o->binary, e);
-    free(origin);
-    free(bridge);
-    return e->code;
+    const double *dudp[KT_UQ_N];
+    for (int k = 0; o->uncertainty && k < r->S->nd; k++) dudp[k] = kt_solver_dudp(r->sv, k);
+    kt_aug_step_fields sf = {kt_solver_mesh(r->sv), kt_solver_u(r->sv), kt_solver_origin(r->sv), react,
+                             o->uncertainty ? r->S : NULL, dudp, kt_solver_at(r->sv) == 0 ? r->ph : NULL, r->fem.wound};
+    return kt_aug_step_vtk(path, &sf, o->binary, e);
 }
 
-static void tsv_num(FILE *f, double v, const char *fmt)
+void kt_aug_steps_head(kt_tsvw *w)
 {
-    if (isnan(v)) fputs("NaN", f);
-    else fprintf(f, fmt, v);
+    static const char *const H[] = {"step", "n_dofs", "m", "new_dofs", "iters", "closure_max", "t_update_ms",
+                                    "t_step1_ms", "t_step2_ms", "t_step3_ms", "t_total_ms", "rel_residual",
+                                    "verify_rel_diff", "nnz_L", "t_verify_ms"};
+    for (size_t k = 0; k < sizeof H / sizeof *H; k++) kt_tsvw_text(w, H[k]);
+    kt_tsvw_end(w);
 }
 
-static void write_row(run *r, const kt_aug_row *w)
+void kt_aug_steps_row(kt_tsvw *w, const kt_aug_row *r)
 {
-    FILE *f = r->tsv.f;
-    fprintf(f, "%d\t%d\t%d\t%d\t%d\t%d", w->step, w->n_dofs, w->m, w->new_dofs, w->iters,
-            w->closure_max);
-    double t[5] = {w->t_update, w->t_step1, w->t_step2, w->t_step3, w->t_total};
-    for (int k = 0; k < 5; k++) {
-        fputc('\t', f);
-        tsv_num(f, t[k], "%.4f");
-    }
-    fputc('\t', f);
-    tsv_num(f, w->rel_residual, "%.3e");
-    fputc('\t', f);
-    tsv_num(f, w->verify_rel_diff, "%.3e");
-    fputc('\t', f);
-    tsv_num(f, w->nnz_L, "%.0f"); /* newton: NaN */
-    fputc('\t', f);
-    tsv_num(f, w->t_verify, "%.1f");
-    fputc('\n', f);
+    long long n[6] = {r->step, r->n_dofs, r->m, r->new_dofs, r->iters, r->closure_max};
+    for (int k = 0; k < 6; k++) kt_tsvw_int(w, n[k]);
+    double t[5] = {r->t_update, r->t_step1, r->t_step2, r->t_step3, r->t_total};
+    for (int k = 0; k < 5; k++) kt_tsvw_num(w, t[k], "%.4f");
+    kt_tsvw_num(w, r->rel_residual, "%.3e");
+    kt_tsvw_num(w, r->verify_rel_diff, "%.3e");
+    kt_tsvw_num(w, r->nnz_L, "%.0f"); /* newton: NaN */
+    kt_tsvw_num(w, r->t_verify, "%.1f");
+    kt_tsvw_end(w);
 }
 
 static void progress(const kt_aug_row *w, int quiet)
@@ -375,45 +376,33 @@ static void progress(const kt_aug_row *w, int quiet)
             w->step, w->n_dofs, w->m, w->iters, w->t_total, tty ? "   " : "\n");
 }
 
-/* A YAML double-quoted scalar: paths may hold ':' '#' or be "-", which plain scalars can't;
- * control bytes (a newline in a path) are escaped, which YAML would otherwise fold. */
+/* key: "value" (kt_yml_put_quoted). */
 static void yaml_str(FILE *f, const char *key, const char *v)
 {
-    fprintf(f, "%s: \"", key);
-    for (const unsigned char *p = (const unsigned char *)v; *p; p++) {
-        if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p);
-        else if (*p == '\n') fputs("\\n", f);
-        else if (*p == '\t') fputs("\\t", f);
-        else if (*p < 0x20 || *p == 0x7f) fprintf(f, "\\x%02x", *p);
-        else fputc(*p, f);
-    }
-    fputs("\"\n", f);
+    fprintf(f, "%s: ", key);
+    kt_yml_put_quoted(f, v);
+    fputc('\n', f);
 }
 
-static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e)
+int kt_aug_run_yaml(const kt_aug_run_info *ri, kt_err *e)
 {
-    const kt_aug_opts *a = kt_solver_opts_used(r->sv); /* the method that ran */
+    const kt_aug_opts *a = ri->aug;
     char path[PATH_MAX], buf[PATH_MAX];
-    snprintf(path, sizeof path, "%s/run.yaml", o->run_dir);
+    snprintf(path, sizeof path, "%s/run.yaml", ri->run_dir);
     kt_out out;
     if (kt_out_open(&out, path, e)) return e->code;
     /* paths relative to the run folder: a tree holding the run and its inputs can move */
-    kt_path_relative(o->mesh, o->run_dir, buf, sizeof buf);
-    yaml_str(out.f, "mesh", buf);
-    kt_path_relative(r->scene_path, o->run_dir, buf, sizeof buf);
-    yaml_str(out.f, "scene", buf);
-    if (r->rd.h.plan[0]) {
-        kt_path_relative(r->rd.h.plan, o->run_dir, buf, sizeof buf);
-        yaml_str(out.f, "plan", buf);
+    const char *keys[4] = {"mesh", "scene", "plan", "edits"}, *paths[4] = {ri->mesh, ri->scene, ri->plan, ri->edits};
+    for (int k = 0; k < 4; k++) {
+        if (!paths[k] || !paths[k][0]) continue;
+        kt_path_relative(paths[k], ri->run_dir, buf, sizeof buf);
+        yaml_str(out.f, keys[k], buf);
     }
-    kt_path_relative(o->edits, o->run_dir, buf, sizeof buf);
-    yaml_str(out.f, "edits", buf);
-    fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(a->method),
-            r->mesh.order, steps);
+    fprintf(out.f, "method: %s\norder: %d\nsteps: %d\n", kt_aug_method_name(a->method), ri->order, ri->steps);
     /* what curvature cross-checks: the mesh's content hash and node count, the plan's bytes */
     fprintf(out.f, "mesh_hash: \"%016" PRIx64 "\"  # kt_mesh_hash: FNV-1a of the nodes and tets\n"
-            "mesh_nodes: %d\nmesh_tets: %d\n", kt_mesh_hash(&r->mesh), r->mesh.nn, r->mesh.ne);
-    if (r->has_plan_hash) fprintf(out.f, "plan_hash: \"%016llx\"\n", r->plan_hash);
+            "mesh_nodes: %d\nmesh_tets: %d\n", ri->hash, ri->nn, ri->ne);
+    if (ri->has_plan_hash) fprintf(out.f, "plan_hash: \"%016llx\"\n", ri->plan_hash);
     static const char *const ORD[] = {"natural", "amd", "metis"};
     kt_newton_opts nl;
     kt_newton_defaults(&nl);
@@ -422,39 +411,51 @@ static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e
     else
         fprintf(out.f, "tol: %g\nordering: %s\nfactor: %s\n", a->tol, ORD[a->ordering],
                 a->factor == KT_AUG_FACTOR_SIMPLICIAL ? "simplicial" : "supernodal");
-    if (o->aug.output[0]) yaml_str(out.f, "output", o->aug.output);
-    if (kt_solver_fallback(r->sv)) yaml_str(out.f, "fallback", kt_solver_fallback(r->sv));
-    if (o->steps) yaml_str(out.f, "written_steps", o->steps);
-    if (o->vtk) { /* the step files written, exactly: what curvature reads (augsolve(1), FILES) */
+    if (ri->output && ri->output[0]) yaml_str(out.f, "output", ri->output);
+    if (ri->fallback) yaml_str(out.f, "fallback", ri->fallback);
+    if (ri->written_steps) yaml_str(out.f, "written_steps", ri->written_steps);
+    if (ri->step_files) { /* the step files written, exactly: what curvature reads (augsolve(1), FILES) */
         fputs("step_files: [", out.f);
-        for (int k = 0, first = 1; k <= r->plan.nsteps; k++)
-            if (r->want[k]) fprintf(out.f, first ? "%d" : ", %d", k), first = 0;
+        for (int k = 0, first = 1; k < ri->nstep_files; k++)
+            if (ri->step_files[k]) fprintf(out.f, first ? "%d" : ", %d", k), first = 0;
         fputs("]\n", out.f);
     }
-    if (o->uncertainty) fputs("uncertainty: on\n", out.f);
-    if (kt_runrec_write(out.f, o->run_dir, &r->scene, e)) return kt_out_abort(&out), e->code;
+    if (ri->uncertainty) fputs("uncertainty: on\n", out.f);
+    if (kt_runrec_write(out.f, ri->run_dir, ri->scene_s, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
+}
+
+static int write_run_yaml(run *r, const kt_aug_run_opts *o, int steps, kt_err *e)
+{
+    kt_aug_run_info ri = {o->run_dir, o->mesh, r->scene_path, r->rd.h.plan, o->edits, kt_solver_opts_used(r->sv),
+                          r->mesh.order, r->mesh.nn, r->mesh.ne, kt_mesh_hash(&r->mesh), steps, r->has_plan_hash,
+                          r->plan_hash, o->aug.output, kt_solver_fallback(r->sv), o->steps, o->vtk ? r->want : NULL,
+                          r->plan.nsteps + 1, o->uncertainty, &r->scene};
+    return kt_aug_run_yaml(&ri, e);
 }
 
 /* uncertainty.tsv (augsolve(1), FILES): every quantity of the scene's uncertainty section, its
  * value and sd, and how its band is found. */
-static int write_uncertainty(run *r, const kt_aug_run_opts *o, kt_err *e)
+int kt_aug_uncertainty_tsv(const char *run_dir, const kt_fem_sens *S, kt_err *e)
 {
-    if (!o->uncertainty) return KT_OK;
     static const char *const METHOD[] = {"none", "derivative", "fd"};
+    static const char *const H[] = {"param", "unit", "value", "sd", "method", "source"};
     char path[PATH_MAX];
-    snprintf(path, sizeof path, "%s/uncertainty.tsv", o->run_dir);
+    snprintf(path, sizeof path, "%s/uncertainty.tsv", run_dir);
     kt_out out;
     if (kt_out_open(&out, path, e)) return e->code;
-    fputs("param\tunit\tvalue\tsd\tmethod\tsource\n", out.f);
+    kt_tsvw w;
+    kt_tsvw_begin(&w, out.f);
+    for (int k = 0; k < 6; k++) kt_tsvw_text(&w, H[k]);
+    kt_tsvw_end(&w);
     for (int q = 0; q < KT_UQ_N; q++) {
-        if (q == KT_UQ_HEAL && !isfinite(r->S->value[q])) continue; /* no bridge stiffness */
-        fprintf(out.f, "%s\t%s\t", kt_uq_name(q), kt_uq_unit(q));
-        tsv_num(out.f, r->S->value[q], "%.6g");
-        fputc('\t', out.f);
-        tsv_num(out.f, r->S->sd[q], "%.6g");
-        fprintf(out.f, "\t%s\t%s\n", METHOD[r->S->method[q]], kt_uq_source(q));
+        if (q == KT_UQ_HEAL && !isfinite(S->value[q])) continue; /* no bridge stiffness */
+        kt_tsvw_text(&w, kt_uq_name(q)), kt_tsvw_text(&w, kt_uq_unit(q));
+        kt_tsvw_num(&w, S->value[q], "%.6g"), kt_tsvw_num(&w, S->sd[q], "%.6g");
+        kt_tsvw_text(&w, METHOD[S->method[q]]), kt_tsvw_text(&w, kt_uq_source(q));
+        kt_tsvw_end(&w);
     }
+    if (kt_tsvw_finish(&w, path, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
 }
 
@@ -464,8 +465,8 @@ static int open_tsv(run *r, const kt_aug_run_opts *o, kt_err *e)
     snprintf(path, sizeof path, "%s/steps.tsv", o->run_dir);
     if (kt_out_open(&r->tsv, path, e)) return e->code;
     r->tsv_open = 1;
-    fputs("step\tn_dofs\tm\tnew_dofs\titers\tclosure_max\tt_update_ms\tt_step1_ms\tt_step2_ms\t"
-          "t_step3_ms\tt_total_ms\trel_residual\tverify_rel_diff\tnnz_L\tt_verify_ms\n", r->tsv.f);
+    kt_tsvw_begin(&r->tw, r->tsv.f);
+    kt_aug_steps_head(&r->tw);
     return KT_OK;
 }
 
@@ -518,7 +519,7 @@ static int parse_steps(run *r, const char *list, int nsteps, kt_err *e)
 static int write_step(run *r, const kt_aug_run_opts *o, kt_err *e)
 {
     if (write_vtk(r, o, e)) return e->code;
-    write_row(r, kt_solver_row(r->sv));
+    kt_aug_steps_row(&r->tw, kt_solver_row(r->sv));
     progress(kt_solver_row(r->sv), o->aug.quiet);
     return KT_OK;
 }
@@ -593,9 +594,9 @@ int kt_aug_run(const kt_aug_run_opts *o_in, kt_err *e)
     int steps = 0;
     r->quiet = o.aug.quiet;
     if (check_inputs(r, &o, e) || solve_physics(r, &o, e) || solve_steps(r, &o, &steps, e) ||
-        write_uncertainty(r, &o, e))
+        (o.uncertainty && kt_aug_uncertainty_tsv(o.run_dir, r->S, e)))
         goto done;
-    if (kt_out_commit(&r->tsv, e)) goto done;
+    if (kt_tsvw_finish(&r->tw, "steps.tsv", e) || kt_out_commit(&r->tsv, e)) goto done;
     r->tsv_open = 0;
     if (write_run_yaml(r, &o, steps, e)) { /* no result without its run.yaml: take back the table */
         char path[PATH_MAX];

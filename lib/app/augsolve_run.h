@@ -4,9 +4,12 @@
 
 #include <stdint.h>
 
+#include <stdio.h>
+
 #include "aug.h"
 #include "physics.h"
 #include "sens.h"
+#include "tsv.h"
 
 /* The physics of the measured geometry (kt_physics: the per-tet data, the prestress under the
  * loads and the order its solve factored with; with uncertainty the quantities' derivative
@@ -55,5 +58,46 @@ typedef struct kt_aug_run_opts {
 void kt_aug_run_opts_default(kt_aug_run_opts *o);
 
 int kt_aug_run(const kt_aug_run_opts *o, kt_err *e);
+
+/* The run folder's files (augsolve(1), FILES), for augsolve and for a run made in memory
+ * (lri-plan's chosen run, lib/planner): each one writer.
+ * kt_aug_step_vtk: step-NNNN.vtk at path: the cut mesh, its displacement u (3 nn), origin (nn,
+ * 0-based), reactions (NULL: none), with sens the dudp_<q> fields (dudp[k], 3 nn each), with ph
+ * (step 0) the per-tet inputs, with a healed wound (wound, the bridge of the intact mesh) the
+ * cell field bridge (keratome-vtk(5)).
+ * kt_aug_run_yaml: run.yaml from ri (paths made relative to the run folder, NULL ones left out).
+ * kt_aug_uncertainty_tsv: RUN/uncertainty.tsv of S's quantities.
+ * kt_aug_steps_head / _row: steps.tsv's header and one step's row. */
+struct kt_wound;
+typedef struct kt_aug_step_fields {
+    const kt_mesh *mesh;
+    const double *u;
+    const int *origin;
+    const double *react;        /* NULL: none */
+    const kt_fem_sens *sens;    /* NULL: no dudp_<q> */
+    const double *const *dudp;
+    const kt_physics *ph;       /* NULL: no per-tet inputs (a step after 0) */
+    const struct kt_wound *wound; /* NULL: no bridge (the immediate wound) */
+} kt_aug_step_fields;
+int kt_aug_step_vtk(const char *path, const kt_aug_step_fields *f, int binary, kt_err *e);
+typedef struct kt_aug_run_info {
+    const char *run_dir, *mesh, *scene, *plan, *edits;
+    const kt_aug_opts *aug;     /* the method that ran */
+    int order, nn, ne;          /* the mesh the run was solved on: element order, counts, */
+    uint64_t hash;              /* kt_mesh_hash */
+    int steps;                  /* the last step */
+    int has_plan_hash;
+    unsigned long long plan_hash;
+    const char *output, *fallback, *written_steps; /* NULL or "": left out */
+    const unsigned char *step_files; /* NULL: none written; else step k's file written when
+                                   step_files[k] (k < nstep_files): run.yaml's step_files */
+    int nstep_files;
+    int uncertainty;
+    const kt_scene *scene_s;    /* for the provenance block (runrec.h) */
+} kt_aug_run_info;
+int kt_aug_run_yaml(const kt_aug_run_info *ri, kt_err *e);
+int kt_aug_uncertainty_tsv(const char *run_dir, const kt_fem_sens *S, kt_err *e);
+void kt_aug_steps_head(kt_tsvw *w);
+void kt_aug_steps_row(kt_tsvw *w, const kt_aug_row *r);
 
 #endif

@@ -14,6 +14,7 @@
 
 #include "curv.h"
 #include "curv_band.h"
+#include "tsv.h"
 #include "uqread.h"
 
 #include "curvature_int.h"
@@ -104,21 +105,6 @@ static int take_dudp(run_ctx *c, int step, const kt_vtk *v, const kt_surf *s, do
     return KT_OK;
 }
 
-static double max_abs(const double *d, int n3)
-{
-    double m = 0;
-    for (int i = 0; i < n3; i++) m = fmax(m, fabs(d[i]));
-    return m;
-}
-
-/* The zone fit of xyz + t dudp. */
-static int fit_moved(run_ctx *c, const double *xyz, const double *dudp, int n, double t, double *buf, kt_fit *f,
-                     kt_err *e)
-{
-    for (int i = 0; i < 3 * n; i++) buf[i] = xyz[i] + t * dudp[i];
-    return kt_curv_fit(buf, n, c->o->fit, c->o->order, c->o->zone, 0, 0, f, NULL, 0, e);
-}
-
 int kt_curvrun_band_step(run_ctx *c, int step, const kt_vtk *v, const kt_surf *s, kt_err *e)
 {
     if (!c->bands) return KT_OK;
@@ -134,31 +120,14 @@ int kt_curvrun_band_step(run_ctx *c, int step, const kt_vtk *v, const kt_surf *s
         if (!(c->b0_xyz = kt_calloc((size_t)3 * n, sizeof(double), e))) return e->code;
         memcpy(c->b0_xyz, s->xyz, (size_t)3 * n * sizeof(double));
     }
-    int n0 = c->b0_n, nb = n > n0 ? n : n0;
-    double *buf = kt_calloc((size_t)3 * nb, sizeof(double), e);
-    kt_fit *f = kt_calloc(4, sizeof(kt_fit), e); /* step 0 +, step 0 -, step +, step - */
-    if (!buf || !f) rc = e->code;
+    int n0 = c->b0_n;
     const kt_astig *tia = c->has_target ? &c->tia : NULL;
     double mer = isnan(c->meridian) ? (step > 0 ? c->res[0].k.axis_steep : 0) : c->meridian;
     for (int k = 0; rc == KT_OK && k < np; k++) {
         if (c->uq.p[k].method != KT_UQ_DERIVATIVE) continue;
-        const double *d0 = c->b0_dudp + (size_t)k * 3 * n0, *di = dudp + (size_t)k * 3 * n;
-        double m = fmax(max_abs(d0, 3 * n0), max_abs(di, 3 * n));
+        kt_band_pts p0 = {n0, c->b0_xyz, c->b0_dudp + (size_t)k * 3 * n0}, pk = {n, s->xyz, dudp + (size_t)k * 3 * n};
         double *d = c->deriv + ((size_t)step * np + k) * KT_RD_N;
-        if (!(m > 0)) { /* this quantity does not move the cornea: no change */
-            c->eps[(size_t)step * np + k] = 0;
-            continue;
-        }
-        double eps = KT_BAND_DELTA_MM / m, plus[KT_RD_N], minus[KT_RD_N];
-        c->eps[(size_t)step * np + k] = eps;
-        rc = fit_moved(c, c->b0_xyz, d0, n0, eps, buf, f, e);
-        if (rc == KT_OK) rc = fit_moved(c, c->b0_xyz, d0, n0, -eps, buf, f + 1, e);
-        if (rc == KT_OK) rc = fit_moved(c, s->xyz, di, n, eps, buf, f + 2, e);
-        if (rc == KT_OK) rc = fit_moved(c, s->xyz, di, n, -eps, buf, f + 3, e);
-        if (rc != KT_OK) break;
-        kt_band_readings(f, f + 2, mer, tia, plus);
-        kt_band_readings(f + 1, f + 3, mer, tia, minus);
-        kt_band_derivative(plus, minus, eps, d);
+        rc = kt_band_step_deriv(&p0, &pk, c->o->fit, c->o->order, c->o->zone, mer, tia, d, &c->eps[(size_t)step * np + k], e);
     }
     if (rc != KT_OK) {
         char msg[sizeof e->msg];
@@ -166,7 +135,6 @@ int kt_curvrun_band_step(run_ctx *c, int step, const kt_vtk *v, const kt_surf *s
         e->code = 0;
         rc = kt_fail(e, rc, "%s: the uncertainty band's central difference: %s", c->vtk[step], msg);
     }
-    free(buf), free(f);
     if (step != 0) free(dudp);
     return rc;
 }
@@ -203,34 +171,28 @@ int kt_curvrun_band_finish(run_ctx *c, kt_err *e)
 
 /* ---------------------------------------------------------------- outputs */
 
-static void put(FILE *f, double v, const char *fmt)
-{
-    if (isnan(v)) fputs("NaN", f);
-    else fprintf(f, fmt, v);
-}
-
-void kt_curvrun_band_tsv_head(const run_ctx *c, FILE *f)
+void kt_curvrun_band_tsv_head(const run_ctx *c, kt_tsvw *w)
 {
     if (!c->bands) return;
-    fputs("\tsia_x_D\tsia_y_D", f);
+    kt_tsvw_text(w, "sia_x_D"), kt_tsvw_text(w, "sia_y_D");
+    char k[96];
     for (int q = 0; q < KT_RD_N; q++) {
         const char *n = kt_band_reading_name(q);
-        fprintf(f, "\t%s_sd\t%s_lo90\t%s_hi90", n, n, n);
+        snprintf(k, sizeof k, "%s_sd", n), kt_tsvw_text(w, k);
+        snprintf(k, sizeof k, "%s_lo90", n), kt_tsvw_text(w, k);
+        snprintf(k, sizeof k, "%s_hi90", n), kt_tsvw_text(w, k);
     }
 }
 
-void kt_curvrun_band_tsv_row(const run_ctx *c, int i, FILE *f)
+void kt_curvrun_band_tsv_row(const run_ctx *c, int i, kt_tsvw *w)
 {
     if (!c->bands) return;
     const double *val = c->val + (size_t)i * KT_RD_N, *sd = c->sd + (size_t)i * KT_RD_N;
-    fputc('\t', f), put(f, val[KT_RD_SIA_X], "%.4f");
-    fputc('\t', f), put(f, val[KT_RD_SIA_Y], "%.4f");
+    kt_tsvw_num(w, val[KT_RD_SIA_X], "%.4f"), kt_tsvw_num(w, val[KT_RD_SIA_Y], "%.4f");
     for (int q = 0; q < KT_RD_N; q++) {
         double lo, hi;
         kt_band_interval(q, val[q], sd[q], &lo, &hi);
-        fputc('\t', f), put(f, sd[q], "%.6f");
-        fputc('\t', f), put(f, lo, "%.4f");
-        fputc('\t', f), put(f, hi, "%.4f");
+        kt_tsvw_num(w, sd[q], "%.6f"), kt_tsvw_num(w, lo, "%.4f"), kt_tsvw_num(w, hi, "%.4f");
     }
 }
 
@@ -238,28 +200,29 @@ void kt_curvrun_band_tsv_row(const run_ctx *c, int i, FILE *f)
 int kt_curvrun_band_write(run_ctx *c, kt_err *e)
 {
     if (!c->bands) return KT_OK;
+    static const char *const H[] = {"step", "param", "unit", "method", "sd", "used", "eps"};
     char path[PATHMAX];
     kt_out out;
     if (kt_curvrun_tmp_path(c, path, "derivatives.tsv", e) || kt_curvrun_add_file(c, "derivatives.tsv", e) ||
         kt_out_open(&out, path, e))
         return e->code;
-    FILE *f = out.f;
-    fputs("step\tparam\tunit\tmethod\tsd\tused\teps", f);
-    for (int q = 0; q < KT_RD_N; q++) fprintf(f, "\t%s", kt_band_reading_name(q));
-    fputc('\n', f);
+    kt_tsvw w;
+    kt_tsvw_begin(&w, out.f);
+    for (int k = 0; k < 7; k++) kt_tsvw_text(&w, H[k]);
+    for (int q = 0; q < KT_RD_N; q++) kt_tsvw_text(&w, kt_band_reading_name(q));
+    kt_tsvw_end(&w);
     int np = c->uq.n;
     for (int i = 0; i < c->nstep; i++)
         for (int k = 0; k < np; k++) {
             const kt_uq_param *p = c->uq.p + k;
-            fprintf(f, "%d\t%s\t%s\t%s\t%.6g\t%d\t", c->num[i], p->name, p->unit, method_name(p->method), p->sd,
-                    c->used[k]);
-            put(f, c->eps[(size_t)i * np + k], "%.6g");
-            for (int q = 0; q < KT_RD_N; q++) {
-                fputc('\t', f);
-                put(f, c->used[k] ? c->deriv[((size_t)i * np + k) * KT_RD_N + q] : NAN, "%.8g");
-            }
-            fputc('\n', f);
+            kt_tsvw_int(&w, c->num[i]), kt_tsvw_text(&w, p->name), kt_tsvw_text(&w, p->unit);
+            kt_tsvw_text(&w, method_name(p->method)), kt_tsvw_num(&w, p->sd, "%.6g"), kt_tsvw_int(&w, c->used[k]);
+            kt_tsvw_num(&w, c->eps[(size_t)i * np + k], "%.6g");
+            for (int q = 0; q < KT_RD_N; q++)
+                kt_tsvw_num(&w, c->used[k] ? c->deriv[((size_t)i * np + k) * KT_RD_N + q] : NAN, "%.8g");
+            kt_tsvw_end(&w);
         }
+    if (kt_tsvw_finish(&w, path, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
 }
 
@@ -293,7 +256,9 @@ void kt_curvrun_band_summary(const run_ctx *c, FILE *f)
     fprintf(f, "uncertainty, step %d (first order, %d independent quantit%s, 90%% = +-1.645 sd): ", c->num[i], nused,
             nused == 1 ? "y" : "ies");
     band_text(c, i, KT_RD_SIA, "SIA", " D", 2, f);
-    fputs(", sd ", f), put(f, c->sd[(size_t)i * KT_RD_N + KT_RD_SIA], "%.2f D");
+    double sia_sd = c->sd[(size_t)i * KT_RD_N + KT_RD_SIA];
+    if (isnan(sia_sd)) fputs(", sd NaN", f);
+    else fprintf(f, ", sd %.2f D", sia_sd);
     fputs("; ", f), band_text(c, i, KT_RD_FLAT, "flattening", " D", 2, f);
     fputs("; ", f), band_text(c, i, KT_RD_STEEP, "steepening", " D", 2, f);
     if (!isnan(c->val[(size_t)i * KT_RD_N + KT_RD_COUPLING])) fputs("; ", f), band_text(c, i, KT_RD_COUPLING, "coupling", "", 2, f);
@@ -317,57 +282,39 @@ void kt_curvrun_band_summary(const run_ctx *c, FILE *f)
     if (left) fputc('\n', f);
 }
 
-static void jnum(FILE *f, const char *key, double v, int last)
-{
-    fprintf(f, "\"%s\": ", key);
-    if (isfinite(v)) fprintf(f, "%.6g", v);
-    else fputs("null", f);
-    fputs(last ? "" : ", ", f);
-}
-
-static void jtext(FILE *f, const char *v)
-{
-    fputc('"', f);
-    for (; *v; v++) {
-        if (*v == '"' || *v == '\\') fprintf(f, "\\%c", *v);
-        else if ((unsigned char)*v < 0x20) fprintf(f, "\\u%04x", *v);
-        else fputc(*v, f);
-    }
-    fputc('"', f);
-}
-
-void kt_curvrun_band_json_top(const run_ctx *c, FILE *f)
+void kt_curvrun_band_json_top(const run_ctx *c, kt_json *j)
 {
     if (!c->bands) return;
-    fputs("\"uncertainty\": {\"z90\": ", f);
-    fprintf(f, "%.6g, \"delta_mm\": %.6g, \"params\": [", KT_BAND_Z90, KT_BAND_DELTA_MM);
+    kt_json_obj(j, "uncertainty");
+    kt_json_num(j, "z90", KT_BAND_Z90, -6), kt_json_num(j, "delta_mm", KT_BAND_DELTA_MM, -6);
+    kt_json_arr(j, "params");
     for (int k = 0; k < c->uq.n; k++) {
         const kt_uq_param *p = c->uq.p + k;
-        fputs(k ? ", {\"param\": " : "{\"param\": ", f), jtext(f, p->name);
-        fputs(", \"unit\": ", f), jtext(f, p->unit);
-        fputs(", ", f), jnum(f, "value", p->value, 0), jnum(f, "sd", p->sd, 0);
-        fputs("\"method\": ", f), jtext(f, method_name(p->method));
-        fputs(", \"source\": ", f), jtext(f, p->source);
-        fprintf(f, ", \"used\": %s, ", c->used[k] ? "true" : "false");
-        jnum(f, "sia_sd_contrib_D", c->used[k] ? fabs(c->deriv[((size_t)(c->nstep - 1) * c->uq.n + k) * KT_RD_N + KT_RD_SIA] * p->sd) : NAN, 1);
-        fputs("}", f);
+        kt_json_obj(j, NULL);
+        kt_json_str(j, "param", p->name), kt_json_str(j, "unit", p->unit);
+        kt_json_num(j, "value", p->value, -6), kt_json_num(j, "sd", p->sd, -6);
+        kt_json_str(j, "method", method_name(p->method)), kt_json_str(j, "source", p->source);
+        kt_json_bool(j, "used", c->used[k]);
+        kt_json_num(j, "sia_sd_contrib_D",
+                    c->used[k] ? fabs(c->deriv[((size_t)(c->nstep - 1) * c->uq.n + k) * KT_RD_N + KT_RD_SIA] * p->sd) : NAN, -6);
+        kt_json_end(j);
     }
-    fputs("]}, ", f);
+    kt_json_end(j);
+    kt_json_end(j);
 }
 
-void kt_curvrun_band_json_step(const run_ctx *c, int i, FILE *f)
+void kt_curvrun_band_json_step(const run_ctx *c, int i, kt_json *j)
 {
     if (!c->bands) return;
     const double *val = c->val + (size_t)i * KT_RD_N, *sd = c->sd + (size_t)i * KT_RD_N;
-    fputs(", ", f);
-    jnum(f, "sia_x_D", val[KT_RD_SIA_X], 0);
-    jnum(f, "sia_y_D", val[KT_RD_SIA_Y], 0);
+    kt_json_num(j, "sia_x_D", val[KT_RD_SIA_X], -6);
+    kt_json_num(j, "sia_y_D", val[KT_RD_SIA_Y], -6);
     for (int q = 0; q < KT_RD_N; q++) {
         char k[96];
         double lo, hi;
         kt_band_interval(q, val[q], sd[q], &lo, &hi);
-        snprintf(k, sizeof k, "%s_sd", kt_band_reading_name(q)), jnum(f, k, sd[q], 0);
-        snprintf(k, sizeof k, "%s_lo90", kt_band_reading_name(q)), jnum(f, k, lo, 0);
-        snprintf(k, sizeof k, "%s_hi90", kt_band_reading_name(q)), jnum(f, k, hi, q == KT_RD_N - 1);
+        snprintf(k, sizeof k, "%s_sd", kt_band_reading_name(q)), kt_json_num(j, k, sd[q], -6);
+        snprintf(k, sizeof k, "%s_lo90", kt_band_reading_name(q)), kt_json_num(j, k, lo, -6);
+        snprintf(k, sizeof k, "%s_hi90", kt_band_reading_name(q)), kt_json_num(j, k, hi, -6);
     }
 }

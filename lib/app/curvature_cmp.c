@@ -89,18 +89,6 @@ static void read_yaml(cmp_run *r)
     kt_yml_free(&y);
 }
 
-static const char CSS[] =
-    "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;color:#1d232a;background:#f4f5f7;margin:0}\n"
-    "main{max-width:1180px;margin:0 auto;padding:18px 26px 40px}header{background:#18324a;color:#fff;padding:18px 26px}\n"
-    "header h1{margin:0;font-size:24px;font-weight:600}h2{font-size:18px;margin:28px 0 8px}\n"
-    "table{border-collapse:collapse;font-size:13px;background:#fff}td,th{padding:4px 10px;border-bottom:1px solid #e2e6ea;text-align:left}\n"
-    "th{background:#eef1f4}td.n{text-align:right;font-variant-numeric:tabular-nums}\n"
-    ".row{display:flex;flex-wrap:wrap;gap:16px}figure{background:#fff;margin:0;padding:10px;border-radius:8px;flex:1 1 420px}\n"
-    "figure svg{width:100%;height:auto}figcaption{font-size:13px}svg text{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif}\n"
-    ".tick{font-size:11px}.axtitle{font-size:12px}.lbl{font-size:12px}.grid{stroke:#e4e7eb}.zero{stroke:#8a939b}.frame{fill:none;stroke:#8a939b}\n"
-    ".s1 polyline{fill:none;stroke:#1f6fb4;stroke-width:2.2}.s1 circle{fill:#1f6fb4}\n"
-    ".s2 polyline{fill:none;stroke:#d35400;stroke-width:2.2;stroke-dasharray:6 3}.s2 circle{fill:#d35400}\n"
-    ".note{font-size:13px;color:#3d4750}\n";
 
 static void cell(FILE *f, double v, const char *fmt)
 {
@@ -148,7 +136,7 @@ static int plot(FILE *f, const cmp_run *r, int c, const char *what, const char *
 
 static int page(FILE *f, const cmp_run *r, kt_err *e)
 {
-    kt_html_begin(f, "keratome: two runs compared", CSS);
+    kt_html_begin(f, "keratome: two runs compared");
     fputs("<header><h1>Two runs compared</h1></header>\n<main>\n<table id=\"runs\">\n<tr><th></th><th>run A</th>"
           "<th>run B</th></tr>\n", f);
     const char *what[] = {"folder", "plan", "scene", "materials (run.yaml)"};

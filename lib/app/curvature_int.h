@@ -9,6 +9,8 @@
 #include "curv.h"
 #include "curv_report.h"
 #include "curv_total.h"
+#include "json.h"
+#include "tsv.h"
 #include "curvature_run.h"
 #include "plan.h"
 #include "uqread.h"
@@ -90,12 +92,12 @@ int kt_curvrun_band_step(run_ctx *c, int step, const kt_vtk *v, const kt_surf *s
 int kt_curvrun_band_finish(run_ctx *c, kt_err *e);
 void kt_curvrun_band_free(run_ctx *c);
 /* curvature.tsv's band columns (header / one step's values, each with a leading tab). */
-void kt_curvrun_band_tsv_head(const run_ctx *c, FILE *f);
-void kt_curvrun_band_tsv_row(const run_ctx *c, int i, FILE *f);
+void kt_curvrun_band_tsv_head(const run_ctx *c, kt_tsvw *w);
+void kt_curvrun_band_tsv_row(const run_ctx *c, int i, kt_tsvw *w);
 int kt_curvrun_band_write(run_ctx *c, kt_err *e); /* derivatives.tsv */
 void kt_curvrun_band_summary(const run_ctx *c, FILE *f);
-void kt_curvrun_band_json_top(const run_ctx *c, FILE *f);
-void kt_curvrun_band_json_step(const run_ctx *c, int i, FILE *f);
+void kt_curvrun_band_json_top(const run_ctx *c, kt_json *j);
+void kt_curvrun_band_json_step(const run_ctx *c, int i, kt_json *j);
 /* The contributions to the SIA's sd at the last step, largest first: names, values; count. */
 int kt_curvrun_band_tornado(const run_ctx *c, const char **name, double *val);
 

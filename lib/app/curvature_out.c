@@ -15,6 +15,7 @@
 #include "curv_band.h"
 #include "curv_report.h"
 #include "curv_total.h"
+#include "json.h"
 #include "msh.h"
 #include "plan.h"
 #include "axialmap.h"
@@ -44,71 +45,71 @@ static void compare(const run_ctx *c, int i, step_cmp *d)
     kt_curv_alpins(pre, post, c->has_target ? &c->tia : NULL, &d->va);
 }
 
-static void put(FILE *f, double v, const char *fmt)
+static const char *const CURV_HEAD[] = {
+    "step", "k_steep_D", "k_flat_D", "axis_steep_deg", "cyl_D", "k_mean_D", "dk_mean_D", "incised_deg", "k_incised_D",
+    "k_ortho_D", "flattening_D", "steepening_D", "coupling_ratio", "sia_D", "sia_axis_deg", "tia_D", "tia_axis_deg", "dv_D",
+    "dv_axis_deg", "correction_index", "angle_error_deg", "apex_x_mm", "apex_y_mm", "apex_z_mm", "fit_rms_um",
+    "zone_points", "fit_order", "post_k_steep_D", "post_k_flat_D", "post_axis_deg", "post_cyl_D", "thickness_mm",
+    "total_k_steep_D", "total_k_flat_D", "total_axis_deg", "total_cyl_D", "arc_deg"};
+
+/* One step's row of curvature.tsv. */
+static void curv_row(const run_ctx *c, int i, kt_tsvw *w)
 {
-    if (isnan(v)) fputs("NaN", f);
-    else fprintf(f, fmt, v);
+    const step_res *r = c->res + i;
+    step_cmp d;
+    compare(c, i, &d);
+    double row[] = {r->k.k_steep, r->k.k_flat, kt_curvrun_axis_out(r->k.axis_steep, 4), r->k.cyl, r->k.k_mean, d.dk_mean,
+                    kt_curvrun_axis_out(c->meridian, 4), d.k_inc, d.k_ort, d.flat, d.steep, d.coupling, d.va.sia.mag,
+                    kt_curvrun_axis_out(d.va.sia.axis, 4), d.va.tia.mag, kt_curvrun_axis_out(d.va.tia.axis, 4), d.va.dv.mag,
+                    kt_curvrun_axis_out(d.va.dv.axis, 4), d.va.ci,
+                    d.va.ae, r->fit.ax, r->fit.ay, r->fit.az, 1000 * r->fit.rms};
+    kt_tsvw_int(w, c->num[i]);
+    for (size_t k = 0; k < sizeof row / sizeof row[0]; k++) kt_tsvw_num(w, row[k], k >= 20 && k <= 22 ? "%.6f" : "%.4f");
+    kt_tsvw_int(w, r->fit.npts), kt_tsvw_int(w, r->fit.kind == KT_FIT_ZERNIKE ? r->fit.order : 0);
+    const kt_total *t = &r->tot;
+    double tot[] = {t->post_steep, t->post_flat, kt_curvrun_axis_out(t->post_axis, 4), t->post_cyl, t->thickness,
+                    t->tot_steep, t->tot_flat, kt_curvrun_axis_out(t->tot_axis, 4), t->tot_cyl};
+    for (size_t k = 0; k < sizeof tot / sizeof tot[0]; k++) kt_tsvw_num(w, tot[k], k == 4 ? "%.6f" : "%.4f");
+    kt_tsvw_num(w, kt_curvrun_arc(c, i), "%.4f");
+    kt_curvrun_band_tsv_row(c, i, w);
+    kt_tsvw_end(w);
+}
+
+/* A table into the temporary folder: its writer, committed by done(). */
+static int table_open(run_ctx *c, const char *name, kt_out *out, kt_tsvw *w, char *path, kt_err *e)
+{
+    if (kt_curvrun_tmp_path(c, path, name, e) || kt_curvrun_add_file(c, name, e) || kt_out_open(out, path, e)) return e->code;
+    kt_tsvw_begin(w, out->f);
+    return KT_OK;
+}
+
+static int table_done(kt_out *out, kt_tsvw *w, const char *path, kt_err *e)
+{
+    if (kt_tsvw_finish(w, path, e)) return kt_out_abort(out), e->code;
+    return kt_out_commit(out, e);
 }
 
 int kt_curvrun_write_tables(run_ctx *c, kt_err *e)
 {
     char path[PATHMAX];
     kt_out out;
-    if (kt_curvrun_tmp_path(c, path, "curvature.tsv", e) || kt_curvrun_add_file(c, "curvature.tsv", e) ||
-        kt_out_open(&out, path, e))
-        return e->code;
-    FILE *f = out.f;
-    fputs("step\tk_steep_D\tk_flat_D\taxis_steep_deg\tcyl_D\tk_mean_D\tdk_mean_D\tincised_deg"
-          "\tk_incised_D\tk_ortho_D\tflattening_D\tsteepening_D\tcoupling_ratio\tsia_D\tsia_axis_deg"
-          "\ttia_D\ttia_axis_deg\tdv_D\tdv_axis_deg\tcorrection_index\tangle_error_deg"
-          "\tapex_x_mm\tapex_y_mm\tapex_z_mm\tfit_rms_um\tzone_points\tfit_order"
-          "\tpost_k_steep_D\tpost_k_flat_D\tpost_axis_deg\tpost_cyl_D\tthickness_mm"
-          "\ttotal_k_steep_D\ttotal_k_flat_D\ttotal_axis_deg\ttotal_cyl_D\tarc_deg", f);
-    kt_curvrun_band_tsv_head(c, f);
-    fputc('\n', f);
+    kt_tsvw w;
+    if (table_open(c, "curvature.tsv", &out, &w, path, e)) return e->code;
+    for (size_t k = 0; k < sizeof CURV_HEAD / sizeof *CURV_HEAD; k++) kt_tsvw_text(&w, CURV_HEAD[k]);
+    kt_curvrun_band_tsv_head(c, &w);
+    kt_tsvw_end(&w);
+    for (int i = 0; i < c->nstep; i++) curv_row(c, i, &w);
+    if (table_done(&out, &w, path, e) || table_open(c, "meridians.tsv", &out, &w, path, e)) return e->code;
+    kt_tsvw_text(&w, "step");
+    char name[16];
+    for (int t = 0; t < KT_CURV_NMERID; t += 5) snprintf(name, sizeof name, "k%03d_D", t * 180 / KT_CURV_NMERID), kt_tsvw_text(&w, name);
+    kt_tsvw_end(&w);
     for (int i = 0; i < c->nstep; i++) {
-        const step_res *r = c->res + i;
-        step_cmp d;
-        compare(c, i, &d);
-        double row[] = {r->k.k_steep, r->k.k_flat, kt_curvrun_axis_out(r->k.axis_steep, 4), r->k.cyl, r->k.k_mean, d.dk_mean,
-                        kt_curvrun_axis_out(c->meridian, 4), d.k_inc, d.k_ort, d.flat, d.steep, d.coupling, d.va.sia.mag,
-                        kt_curvrun_axis_out(d.va.sia.axis, 4), d.va.tia.mag, kt_curvrun_axis_out(d.va.tia.axis, 4), d.va.dv.mag,
-                        kt_curvrun_axis_out(d.va.dv.axis, 4), d.va.ci,
-                        d.va.ae, r->fit.ax, r->fit.ay, r->fit.az, 1000 * r->fit.rms};
-        fprintf(f, "%d", c->num[i]);
-        for (size_t k = 0; k < sizeof row / sizeof row[0]; k++) {
-            fputc('\t', f);
-            put(f, row[k], k >= 20 && k <= 22 ? "%.6f" : "%.4f");
-        }
-        fprintf(f, "\t%d\t%d", r->fit.npts, r->fit.kind == KT_FIT_ZERNIKE ? r->fit.order : 0);
-        const kt_total *t = &r->tot;
-        double tot[] = {t->post_steep, t->post_flat, kt_curvrun_axis_out(t->post_axis, 4), t->post_cyl, t->thickness,
-                        t->tot_steep, t->tot_flat, kt_curvrun_axis_out(t->tot_axis, 4), t->tot_cyl};
-        for (size_t k = 0; k < sizeof tot / sizeof tot[0]; k++) {
-            fputc('\t', f);
-            put(f, tot[k], k == 4 ? "%.6f" : "%.4f");
-        }
-        fputc('\t', f);
-        put(f, kt_curvrun_arc(c, i), "%.4f");
-        kt_curvrun_band_tsv_row(c, i, f);
-        fputc('\n', f);
+        kt_tsvw_int(&w, c->num[i]);
+        for (int t = 0; t < KT_CURV_NMERID; t += 5) kt_tsvw_num(&w, c->res[i].k.kmer[t], "%.4f");
+        kt_tsvw_end(&w);
     }
-    if (kt_out_commit(&out, e)) return e->code;
-
-    if (kt_curvrun_tmp_path(c, path, "meridians.tsv", e) || kt_curvrun_add_file(c, "meridians.tsv", e) ||
-        kt_out_open(&out, path, e))
-        return e->code;
-    f = out.f;
-    fputs("step", f);
-    for (int t = 0; t < KT_CURV_NMERID; t += 5) fprintf(f, "\tk%03d_D", t * 180 / KT_CURV_NMERID);
-    fputc('\n', f);
-    for (int i = 0; i < c->nstep; i++) {
-        fprintf(f, "%d", c->num[i]);
-        for (int t = 0; t < KT_CURV_NMERID; t += 5) fprintf(f, "\t%.4f", c->res[i].k.kmer[t]);
-        fputc('\n', f);
-    }
-    if (kt_out_commit(&out, e)) return e->code;
-    return KT_OK;
+    return table_done(&out, &w, path, e);
 }
 
 static int axis_note(const run_ctx *c, char *buf, size_t size);
@@ -201,79 +202,53 @@ static int axis_note(const run_ctx *c, char *buf, size_t size)
 
 /* ---------------------------------------------------------------- JSON, ParaView, report */
 
-static void jnum(FILE *f, const char *key, double v, int last)
-{
-    fprintf(f, "\"%s\": ", key);
-    if (isfinite(v)) fprintf(f, "%.6g", v);
-    else fputs("null", f);
-    fputs(last ? "" : ", ", f);
-}
-
-static void jstr(FILE *f, const char *key, const char *v)
-{
-    fprintf(f, "\"%s\": \"", key);
-    for (; *v; v++) {
-        if (*v == '"' || *v == '\\') fprintf(f, "\\%c", *v);
-        else if ((unsigned char)*v < 0x20) fprintf(f, "\\u%04x", *v);
-        else fputc(*v, f);
-    }
-    fputs("\", ", f);
-}
-
-/* The summary as one JSON object: settings, then one object per step. */
+/* The summary as one JSON object (the one JSON writer, lib/io/json.h; %.6g numbers, a NaN as
+ * null): settings, then one object per step. */
 void kt_curvrun_summary_json(const run_ctx *c, FILE *f)
 {
-    fputs("{", f);
-    jstr(f, "keratome", KT_VERSION);
-    jstr(f, "fit", c->o->fit == KT_FIT_ZERNIKE ? "zernike" : "toric");
-    jnum(f, "zone_mm", c->o->zone, 0);
-    jnum(f, "incised_deg", kt_curvrun_axis_out(c->meridian, 4), 0);
-    jstr(f, "incised_from", c->meridian_src);
-    jnum(f, "n_cornea", c->n.cornea, 0);
-    jnum(f, "n_aqueous", c->n.aqueous, 0);
-    fputs("\"target\": ", f);
+    kt_json j;
+    kt_json_begin(&j, f, 2); /* a step a line */
+    kt_json_obj(&j, NULL);
+    kt_json_str(&j, "keratome", KT_VERSION);
+    kt_json_str(&j, "fit", c->o->fit == KT_FIT_ZERNIKE ? "zernike" : "toric");
+    kt_json_num(&j, "zone_mm", c->o->zone, -6);
+    kt_json_num(&j, "incised_deg", kt_curvrun_axis_out(c->meridian, 4), -6);
+    kt_json_str(&j, "incised_from", c->meridian_src);
+    kt_json_num(&j, "n_cornea", c->n.cornea, -6);
+    kt_json_num(&j, "n_aqueous", c->n.aqueous, -6);
     if (c->has_target) {
-        fputs("{", f);
-        jnum(f, "tia_D", c->tia.mag, 0);
-        jnum(f, "tia_axis_deg", kt_curvrun_axis_out(c->tia.axis, 4), 1);
-        fputs("}, ", f);
+        kt_json_obj(&j, "target");
+        kt_json_num(&j, "tia_D", c->tia.mag, -6);
+        kt_json_num(&j, "tia_axis_deg", kt_curvrun_axis_out(c->tia.axis, 4), -6);
+        kt_json_end(&j);
     } else {
-        fputs("null, ", f);
+        kt_json_null(&j, "target");
     }
-    kt_curvrun_band_json_top(c, f);
-    fputs("\"steps\": [", f);
+    kt_curvrun_band_json_top(c, &j);
+    kt_json_arr(&j, "steps");
     for (int i = 0; i < c->nstep; i++) {
         const step_res *r = c->res + i;
         step_cmp d;
         compare(c, i, &d);
-        fprintf(f, "%s\n  {\"step\": %d, ", i ? "," : "", c->num[i]);
-        jnum(f, "arc_deg", kt_curvrun_arc(c, i), 0);
-        jnum(f, "k_steep_D", r->k.k_steep, 0);
-        jnum(f, "k_flat_D", r->k.k_flat, 0);
-        jnum(f, "axis_steep_deg", kt_curvrun_axis_out(r->k.axis_steep, 4), 0);
-        jnum(f, "cyl_D", r->k.cyl, 0);
-        jnum(f, "k_mean_D", r->k.k_mean, 0);
-        jnum(f, "flattening_D", d.flat, 0);
-        jnum(f, "steepening_D", d.steep, 0);
-        jnum(f, "coupling_ratio", d.coupling, 0);
-        jnum(f, "sia_D", d.va.sia.mag, 0);
-        jnum(f, "sia_axis_deg", kt_curvrun_axis_out(d.va.sia.axis, 4), 0);
-        jnum(f, "dv_D", d.va.dv.mag, 0);
-        jnum(f, "correction_index", d.va.ci, 0);
-        jnum(f, "angle_error_deg", d.va.ae, 0);
-        jnum(f, "index_of_success", d.va.ios, 0);
-        jnum(f, "post_k_steep_D", r->tot.post_steep, 0);
-        jnum(f, "post_k_flat_D", r->tot.post_flat, 0);
-        jnum(f, "post_axis_deg", kt_curvrun_axis_out(r->tot.post_axis, 4), 0);
-        jnum(f, "thickness_mm", r->tot.thickness, 0);
-        jnum(f, "total_k_steep_D", r->tot.tot_steep, 0);
-        jnum(f, "total_k_flat_D", r->tot.tot_flat, 0);
-        jnum(f, "total_axis_deg", kt_curvrun_axis_out(r->tot.tot_axis, 4), 0);
-        jnum(f, "total_cyl_D", r->tot.tot_cyl, 1);
-        kt_curvrun_band_json_step(c, i, f);
-        fputs("}", f);
+        kt_json_obj(&j, NULL);
+        kt_json_int(&j, "step", c->num[i]);
+        const char *key[] = {"arc_deg", "k_steep_D", "k_flat_D", "axis_steep_deg", "cyl_D", "k_mean_D", "flattening_D",
+                             "steepening_D", "coupling_ratio", "sia_D", "sia_axis_deg", "dv_D", "correction_index",
+                             "angle_error_deg", "index_of_success", "post_k_steep_D", "post_k_flat_D", "post_axis_deg",
+                             "thickness_mm", "total_k_steep_D", "total_k_flat_D", "total_axis_deg", "total_cyl_D"};
+        double val[] = {kt_curvrun_arc(c, i), r->k.k_steep, r->k.k_flat, kt_curvrun_axis_out(r->k.axis_steep, 4), r->k.cyl,
+                        r->k.k_mean, d.flat, d.steep, d.coupling, d.va.sia.mag, kt_curvrun_axis_out(d.va.sia.axis, 4),
+                        d.va.dv.mag, d.va.ci, d.va.ae, d.va.ios, r->tot.post_steep, r->tot.post_flat,
+                        kt_curvrun_axis_out(r->tot.post_axis, 4), r->tot.thickness, r->tot.tot_steep, r->tot.tot_flat,
+                        kt_curvrun_axis_out(r->tot.tot_axis, 4), r->tot.tot_cyl};
+        for (size_t k = 0; k < sizeof val / sizeof *val; k++) kt_json_num(&j, key[k], val[k], -6);
+        kt_curvrun_band_json_step(c, i, &j);
+        kt_json_end(&j);
     }
-    fputs("\n]}\n", f);
+    kt_json_end(&j);
+    kt_json_end(&j);
+    kt_err e = {0};
+    if (kt_json_finish(&j, "curvature --json", &e)) fprintf(stderr, "curvature: %s\n", e.msg);
 }
 
 /* steps.pvd: the step VTKs as one ParaView time series (time: degrees of arc opened per
@@ -451,6 +426,7 @@ int kt_curvrun_write_report(run_ctx *c, kt_err *e)
     r.rel_scale = &c->rel_scale, r.scale_auto = c->o->scale_auto;
     r.apex_z = c->res[0].fit.az;
     r.eye_os = c->o->eye_os;
+    r.main = c->o->main;
     char (*rows)[ROWLEN] = kt_calloc(ROWS, ROWLEN, e);
     const char *ptr[ROWS];
     const kt_fit **maps = kt_calloc(c->nstep, sizeof *maps, e);

@@ -27,10 +27,10 @@
 void kt_curv_opts_default(kt_curv_opts *o)
 {
     memset(o, 0, sizeof *o);
-    o->zone = 3;
+    o->zone = KT_CURV_ZONE_DEFAULT;
     o->map_zone = 8;
-    o->fit = KT_FIT_TORIC;
-    o->order = 6;
+    o->fit = KT_CURV_FIT_DEFAULT;
+    o->order = KT_CURV_ORDER_DEFAULT;
     o->map_order = 8;
     o->meridian = NAN;
     o->step_sel = -1;
@@ -675,7 +675,7 @@ int kt_curv_run(const kt_curv_opts *o, FILE *out, kt_err *e)
     if (rc == KT_OK && o->run_dir) rc = kt_curvrun_write_pvd(c, e);
     if (rc == KT_OK && o->report) rc = kt_curvrun_write_report(c, e);
     if (rc == KT_OK) rc = commit_files(c, e);
-    if (rc == KT_OK) (o->json ? kt_curvrun_summary_json : kt_curvrun_summary)(c, out);
+    if (rc == KT_OK && out) (o->json ? kt_curvrun_summary_json : kt_curvrun_summary)(c, out);
     drop_tmpdir(c);
     if (rc != KT_OK && c->made_outdir) rmdir(c->outdir);
     ctx_free(c);

@@ -4,6 +4,7 @@
 
 #include <stdio.h>
 #include "curv.h"
+#include "curv_report.h"
 
 typedef struct kt_curv_opts {
     const char *run_dir;     /* RUN_DIR, or NULL with mesh + vtk[] */
@@ -30,6 +31,7 @@ typedef struct kt_curv_opts {
     int eye_os;              /* --eye OS: the report draws a left eye (default OD) */
     const char *sens;        /* --sens FILE: finite-difference derivatives of the fd quantities */
     int no_bands;            /* --no-uncertainty: no bands even when RUN/uncertainty.tsv exists */
+    const kt_report_main *main; /* the main incision the report shows (NULL: none) */
 } kt_curv_opts;
 
 void kt_curv_opts_default(kt_curv_opts *o);
@@ -37,7 +39,7 @@ void kt_curv_opts_default(kt_curv_opts *o);
 /* Analyse every step, write curvature.tsv, meridians.tsv, surface-NNNN.vtk, axial-NNNN.png,
  * report.html (optics/curv_report.h) and, for a run folder, steps.pvd (a ParaView collection
  * of the step VTKs) into the output folder (all or nothing) and print the summary (text, or
- * JSON with o->json) on `summary`. */
+ * JSON with o->json) on `summary` (NULL: none). */
 int kt_curv_run(const kt_curv_opts *o, FILE *summary, kt_err *e);
 
 /* The page comparing two runs that curvature has read (their curvature.tsv, run.yaml and

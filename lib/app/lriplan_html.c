@@ -1,5 +1,5 @@
 /* lriplan_html.c: PLAN_DIR/plan.html, the plan sheet a surgeon takes to the operating room
- * (lri-plan(1), OUTPUT): one self-contained page (inline CSS and SVG, no script, no network),
+ * (lri-plan(1), FILES): one self-contained page (inline CSS and SVG, no script, no network),
  * the eye from the surgeon's view with the main incision and each arc, the numbers to mark and
  * set, the predicted astigmatism, the SIA curve with the chosen point, the inputs and fits, the
  * provenance and a link to the chosen run's teaching report. Every number that plan.json also
@@ -10,39 +10,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define _POSIX_C_SOURCE 200809L
 #include "html.h"
+#include "lp_family.h"
+#include "lriplan_eye.h"
 #include "lriplan_int.h"
+#include "scene_write.h"
 #include "svg.h"
+#include "units.h"
 
-static const char CSS[] =
-    KT_HTML_CSS_PAGE
-    ".card b{display:block;font-size:20px}.card span.l{font-size:12px;color:#5b6670}\n"
-    ".row{display:flex;flex-wrap:wrap;gap:16px}\n"
-    "figure{background:#fff;margin:0;padding:10px 12px;border-radius:8px;box-shadow:0 1px 3px rgba(0,0,0,.12);flex:1 1 420px}\n"
-    "figure svg{width:100%;height:auto;display:block}\n"
-    "figcaption{font-size:13px;color:#3d4750;margin-top:6px;line-height:1.4}\n"
-    "table{border-collapse:collapse;font-size:13px;background:#fff;margin-bottom:10px}"
-    "td,th{padding:4px 10px;border-bottom:1px solid #e2e6ea;text-align:left}\n"
-    "th{background:#eef1f4}td.n{text-align:right;font-variant-numeric:tabular-nums}\n"
-    "pre{background:#fff;padding:8px;font-size:12px;overflow:auto;border-radius:6px}\n"
-    "svg text{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;fill:#1d232a}\n"
-    ".tick{font-size:11px}.axtitle{font-size:12px}.lbl{font-size:12px}.small{font-size:10px;fill:#5b6670}\n"
-    ".clock{font-size:13px;font-weight:600;fill:#18324a}\n"
-    ".grid{stroke:#e4e7eb;stroke-width:1}.zero{stroke:#8a939b;stroke-width:1}.frame{fill:none;stroke:#8a939b}\n"
-    ".sclera{fill:#fbfaf6;stroke:none}.cornea{fill:#e8f1f8;stroke:#7f97ad;stroke-width:2}\n"
-    ".merid{stroke:#b8c3cc;stroke-width:1}.ring{fill:none;stroke:#6b7a88;stroke-width:1.2;stroke-dasharray:5 4}\n"
-    ".inc{fill:none;stroke:#c0392b;stroke-width:8;stroke-linecap:round}\n"
-    ".main{fill:none;stroke:#1f6fb4;stroke-width:10;stroke-linecap:butt}\n"
-    ".end{fill:#fff;stroke:#c0392b;stroke-width:2}\n"
-    ".steep{stroke:#e67e22;stroke-width:2.5;stroke-dasharray:10 5}\n"
-    ".s1 polyline{fill:none;stroke:#1f6fb4;stroke-width:2.2}.s1 circle{fill:#1f6fb4}\n"
-    ".s2 polyline{fill:none;stroke:#d35400;stroke-width:2.2}.s2 circle{fill:#d35400}\n"
-    ".s3 polyline{fill:none;stroke:#8e44ad;stroke-width:2.2;stroke-dasharray:6 3}.s3 circle{fill:#8e44ad}\n"
-    ".chosen{fill:none;stroke:#c0392b;stroke-width:3}.target{stroke:#27ae60;stroke-width:1.5;stroke-dasharray:6 4}\n"
-    ".nsti{font-size:15px;font-weight:700;fill:#18324a}.bar{stroke:#1d232a;stroke-width:3}\n"
-    ".verdict{font-size:16px;font-weight:600;margin:14px 0 0;padding:10px 14px;border-radius:8px;background:#fff;"
-    "border-left:6px solid #c0392b}.verdict.ok{border-left-color:#27ae60}\n"
-    ".note{font-size:13px;color:#3d4750}\n";
 
 #define DEG (KT_CURV_PI / 180)
 
@@ -61,87 +37,21 @@ static void text_key(FILE *f, const char *key, const char *s)
     fputs("</span>", f);
 }
 
-/* The simulated SIA of step k of a family: |astigmatism(k) - astigmatism(0)| as double-angle
- * vectors, keratometric. */
-static double sia(const kt_lri_family *c, int k)
-{
-    double a[2], b[2];
-    kt_astig_xy(c->kerato[k], a);
-    kt_astig_xy(c->kerato[0], b);
-    return hypot(a[0] - b[0], a[1] - b[1]);
-}
-
-double kt_lri_sia(const kt_lri_family *c, int k) { return sia(c, k); }
-
-/* ---------------------------------------------------------------- the eye */
-
-static void eye_svg(FILE *f, const kt_lri_answer *a, const kt_lri_arc *arcs, int narc)
-{
-    const kt_patient *p = &a->p;
-    const double W = 520, C = 260;
-    int os = p->eye == KT_EYE_OS;
-    double wtw = p->wtw, s = 185 / (0.5 * wtw); /* px per mm */
-    kt_svg_begin(f, W, W, "the plan on the eye as the surgeon sees it");
-    fprintf(f, "<rect class=\"sclera\" x=\"0\" y=\"0\" width=\"%.0f\" height=\"%.0f\"/>\n", W, W);
-    kt_svg_circle(f, C, C, 0.5 * wtw * s, "cornea");
-    for (int t = 0; t < 180; t += 30)
-        kt_svg_line(f, C + 200 * cos(t * DEG), C - 200 * sin(t * DEG), C - 200 * cos(t * DEG), C + 200 * sin(t * DEG), "merid");
-    for (int t = 0; t < 360; t += 30) {
-        kt_svg_text(f, C + 212 * cos(t * DEG), C - 212 * sin(t * DEG) + 4, "middle", "tick", "%d\xC2\xB0", t);
-        int h = ((3 - t / 30) % 12 + 12) % 12;
-        kt_svg_text(f, C + 240 * cos(t * DEG), C - 240 * sin(t * DEG) + 5, "middle", "clock", "%d", h ? h : 12);
-    }
-    kt_svg_circle(f, C, C, 0.5 * p->zone * s, "ring");
-    /* Orientation: superior up; the examiner's right (0 deg) is the patient's left: nasal in
-     * a right eye, temporal in a left eye (keratome-patient(5), CONVENTIONS). */
-    kt_svg_text(f, C - 30, 20, "middle", "nsti", "S");
-    kt_svg_text(f, C - 30, W - 8, "middle", "nsti", "I");
-    kt_svg_text(f, W - 12, C + 30, "middle", "nsti", "%s", os ? "T" : "N");
-    kt_svg_text(f, 12, C + 30, "middle", "nsti", "%s", os ? "N" : "T");
-    kt_svg_text(f, 6, 18, "start", "nsti", "%s", os ? "OS" : "OD");
-    kt_svg_text(f, 6, 34, "start", "small", "%s eye, surgeon's view", os ? "left" : "right");
-    kt_svg_line(f, W - 16 - 5 * s, W - 22, W - 16, W - 22, "bar");
-    kt_svg_text(f, W - 16 - 2.5 * s, W - 30, "middle", "small", "5 mm");
-    double ax = p->ant.axis;
-    kt_svg_line(f, C + 190 * cos(ax * DEG), C - 190 * sin(ax * DEG), C - 190 * cos(ax * DEG), C + 190 * sin(ax * DEG), "steep");
-    if (p->main_present) {
-        /* The main incision at the limbus: its width as an arc just inside white-to-white. */
-        double r = 0.5 * wtw - 0.3, half = 0.5 * p->main_width / r / DEG, m = p->main_meridian;
-        kt_svg_arc(f, C, C, r * s, m - half, m + half, "main");
-        double lx = C + (r - 1.3) * s * cos(m * DEG), ly = C - (r - 1.3) * s * sin(m * DEG);
-        kt_svg_text(f, lx, ly + 18, "middle", "lbl", "main %.1f mm", p->main_width);
-    }
-    for (int i = 0; i < narc; i++) {
-        const kt_lri_arc *q = &arcs[i];
-        double r = 0.5 * p->zone * s;
-        kt_svg_arc(f, C, C, r, q->from, q->from + q->arc, "inc");
-        double ends[2] = {q->from, q->from + q->arc};
-        for (int k = 0; k < 2; k++) {
-            double x = C + r * cos(ends[k] * DEG), y = C - r * sin(ends[k] * DEG);
-            kt_svg_circle(f, x, y, 4, "end");
-            double lx = C + (r + 26) * cos(ends[k] * DEG), ly = C - (r + 26) * sin(ends[k] * DEG);
-            kt_svg_text(f, lx, ly + 4, "middle", "lbl", "%.0f\xC2\xB0 (%s)", fmod(ends[k], 360), k ? q->to_clock : q->from_clock);
-        }
-    }
-    kt_svg_line(f, C - 5, C, C + 5, C, "zero");
-    kt_svg_line(f, C, C - 5, C, C + 5, "zero");
-    kt_svg_end(f);
-}
 
 /* ---------------------------------------------------------------- the curves */
 
-static void curve_svg(FILE *f, const kt_lri_answer *a, int residual)
+static void curve_svg(FILE *f, const kt_lp_answer *a, int residual)
 {
     const double W = 560, H = 330;
     kt_svg_plot pl = {64, 18, W - 84, H - 70, 0, 0, 0, 0};
     double ymax = 0, xmax = 0;
-    for (int i = 0; i < a->nfam; i++)
-        for (int k = 0; k <= a->fam[i].nstep; k++) {
-            double y = residual ? a->fam[i].pred[k].mag : sia(&a->fam[i], k);
+    for (int i = 0; i < a->fam.n; i++)
+        for (int k = 0; a->run.r[i].ran && k <= a->run.r[i].nstep; k++) {
+            double y = residual ? a->choice.pred[i][k].mag : kt_lp_sia(&a->run.r[i], k);
             if (isfinite(y)) ymax = fmax(ymax, y);
-            xmax = fmax(xmax, a->fam[i].arc[k]);
+            xmax = fmax(xmax, a->run.r[i].arc[k]);
         }
-    if (residual) ymax = fmax(ymax, a->p.target_residual);
+    if (residual) ymax = fmax(ymax, a->eye.p.target_residual);
     pl.x1 = xmax > 0 ? xmax : 1, pl.y1 = ymax > 0 ? ymax : 1;
     kt_svg_nice_range(&pl.x0, &pl.x1, 6);
     kt_svg_nice_range(&pl.y0, &pl.y1, 5);
@@ -149,21 +59,24 @@ static void curve_svg(FILE *f, const kt_lri_answer *a, int residual)
     kt_svg_begin(f, W, H, residual ? "predicted residual astigmatism against arc" : "SIA against arc");
     kt_svg_axes(f, &pl, "%g", "%.1f", "arc (deg; an unequal pair: its longer arc)", residual ? "predicted residual (D)" : "SIA (D)");
     if (residual)
-        kt_svg_line(f, kt_svg_px(&pl, pl.x0), kt_svg_py(&pl, a->p.target_residual), kt_svg_px(&pl, pl.x1),
-                    kt_svg_py(&pl, a->p.target_residual), "target");
-    for (int i = 0; i < a->nfam; i++) {
-        const kt_lri_family *c = &a->fam[i];
-        double y[KT_LRIPLAN_MAXSTEP + 1];
-        for (int k = 0; k <= c->nstep; k++) y[k] = residual ? c->pred[k].mag : sia(c, k);
-        char cls[8];
+        kt_svg_line(f, kt_svg_px(&pl, pl.x0), kt_svg_py(&pl, a->eye.p.target_residual), kt_svg_px(&pl, pl.x1),
+                    kt_svg_py(&pl, a->eye.p.target_residual), "target");
+    for (int i = 0; i < a->fam.n; i++) {
+        const kt_lp_run *c = &a->run.r[i];
+        if (!c->ran) continue;
+        double y[KT_LP_MAXSTEP + 1];
+        int b = a->choice.best[i];
+        for (int k = 0; k <= c->nstep; k++) y[k] = residual ? a->choice.pred[i][k].mag : kt_lp_sia(c, k);
+        char cls[16];
         snprintf(cls, sizeof cls, "s%d", i + 1);
         kt_svg_series(f, &pl, c->arc, y, c->nstep + 1, cls);
-        kt_svg_text(f, pl.x + 8, pl.y + 16 + 15 * i, "start", "lbl", "%s%s", c->name, i == a->chosen ? " (chosen)" : "");
+        kt_svg_text(f, pl.x + 8, pl.y + 16 + 15 * i, "start", "lbl", "%s%s", a->fam.f[i].name,
+                    i == a->choice.chosen ? " (chosen)" : "");
         fprintf(f, "<g class=\"%s\"><polyline points=\"%.1f,%.1f %.1f,%.1f\"/></g>\n", cls, pl.x + 120, pl.y + 12 + 15 * i,
                 pl.x + 145, pl.y + 12 + 15 * i);
-        if (i == a->chosen) {
-            double yc = residual ? c->pred[c->best].mag : sia(c, c->best);
-            kt_svg_circle(f, kt_svg_px(&pl, c->arc[c->best]), kt_svg_py(&pl, yc), 9, "chosen");
+        if (i == a->choice.chosen) {
+            double yc = residual ? a->choice.pred[i][b].mag : kt_lp_sia(c, b);
+            kt_svg_circle(f, kt_svg_px(&pl, c->arc[b]), kt_svg_py(&pl, yc), 9, "chosen");
         }
     }
     kt_svg_end(f);
@@ -202,122 +115,281 @@ static void fit_row(FILE *f, const char *what, const char *key, const kt_surffit
     fputs("</td></tr>\n", f);
 }
 
-static int scene_text(FILE *f, const char *outdir)
+/* The scene as scene.yaml holds it (the same writer, into memory). */
+static int scene_text(FILE *f, const kt_lp_answer *a)
 {
-    char path[1200];
-    snprintf(path, sizeof path, "%s/scene.yaml", outdir);
-    FILE *in = fopen(path, "r");
-    if (!in) return -1;
-    fputs("<pre>", f);
-    char line[1024];
-    while (fgets(line, sizeof line, in)) kt_html_text(f, line);
-    fputs("</pre>\n", f);
-    fclose(in);
-    return 0;
+    char *buf = NULL;
+    size_t n = 0;
+    FILE *m = open_memstream(&buf, &n);
+    kt_err e = {0};
+    if (!m) return -1;
+    int rc = kt_scene_write_eye(m, &a->scene.s, NULL, &e);
+    fclose(m);
+    if (rc == KT_OK) {
+        fputs("<pre>", f);
+        kt_html_text(f, buf);
+        fputs("</pre>\n", f);
+    }
+    free(buf);
+    return rc ? -1 : 0;
 }
 
-static void page(FILE *f, const kt_lri_answer *a, const kt_lriplan_opts *o, const char *report)
+/* The band's paragraph (lri-plan(1), BAND). */
+static void band_html(const kt_lp_answer *a, FILE *f)
 {
-    const kt_patient *p = &a->p;
-    const kt_lri_family *fc = &a->fam[a->chosen];
-    kt_lri_arc arcs[2];
-    int narc = kt_lri_arcs(a, arcs);
-    kt_astig kpost, tpost;
-    kt_lri_post(a, &kpost, &tpost);
-    const char *tkind = p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric";
-    char title[256];
-    snprintf(title, sizeof title, "LRI plan: %s (%s)", p->name, p->eye == KT_EYE_OS ? "OS" : "OD");
-    kt_html_begin(f, title, CSS);
-    fputs("<header><h1>Limbal relaxing incisions: the plan for ", f);
-    text_key(f, "patient.name", p->name);
-    fputs("</h1><p>", f);
-    text_key(f, "patient.eye", p->eye == KT_EYE_OS ? "OS" : "OD");
-    fprintf(f, " (%s eye), ", p->eye == KT_EYE_OS ? "left" : "right");
-    num(f, "patient.age", "%g", p->age);
-    fputs(" years; lri-plan ", f);
-    text_key(f, "version", KT_VERSION);
-    fprintf(f, "%s. A simulation's answer (keratome's model), to be weighed by the surgeon.</p></header>\n<main>\n",
-            o->fast ? ", --fast (coarse mesh: the arcs' effect about 10% under the default mesh's)" : "");
-    int ok = fc->pred[fc->best].mag <= p->target_residual;
-    fprintf(f, "<p class=\"verdict%s\">", ok ? " ok" : "");
-    if (narc == 0) fprintf(f, "No arc: none lowers the %s astigmatism.", tkind);
-    else if (narc == 1) fprintf(f, "One arc of %.0f&deg; at the %.1f mm zone, %.0f um deep.", arcs[0].arc, p->zone, 1000 * a->blade);
-    else if (fc->unequal)
-        fprintf(f, "A pair of unequal arcs, %.0f&deg; and %.1f&deg;, at the %.1f mm zone, %.0f um deep.", arcs[0].arc, arcs[1].arc,
-                p->zone, 1000 * a->blade);
-    else fprintf(f, "A pair of arcs of %.0f&deg; each at the %.1f mm zone, %.0f um deep.", arcs[0].arc, p->zone, 1000 * a->blade);
-    fprintf(f, " Predicted %s residual %.2f D: %s the %.2f D target.</p>\n", tkind, fc->pred[fc->best].mag,
-            ok ? "reaches" : "does NOT reach", p->target_residual);
+    const kt_lp_bands *b = &a->band;
+    if (!b->on) return;
+    fprintf(f, "<p class=\"note band\">Band (the prediction as a 2-D distribution; tissue quantities: ");
+    for (int q = 0; q < a->run.nq; q++) fprintf(f, "%s%s", q ? ", " : "", kt_uq_name(a->run.q[q]));
+    fprintf(f, "): predicted residual 90%% interval <b><span data-key=\"band.predicted_residual.lo90_D\">%.2f</span>&ndash;"
+               "<span data-key=\"band.predicted_residual.hi90_D\">%.2f</span> D</b> (the SIA's own sd at this arc %.2f D); "
+               "post-operative keratometric %.2f&ndash;%.2f D, total corneal %.2f&ndash;%.2f D.",
+            b->residual.lo, b->residual.hi, b->sia_sd, b->post_kerato.lo, b->post_kerato.hi, b->post_total.lo, b->post_total.hi);
+    if (a->run.left[0]) fprintf(f, " Left out (no derivative): %s.", a->run.left);
+    fprintf(f, " The surgeon, the blade and healing are not in it.</p>\n");
+}
 
-    fputs("<div class=\"cards\">", f);
-    fputs("<div class=\"card\"><span class=\"l\">incisions</span><b>", f);
-    text_key(f, "plan.incisions", fc->name);
-    fputs("</b></div><div class=\"card\"><span class=\"l\">blade depth</span><b>", f);
-    num(f, "plan.blade_um", "%.0f", 1000 * a->blade);
-    fputs(" um</b></div><div class=\"card\"><span class=\"l\">zone (optical-zone diameter)</span><b>", f);
-    num(f, "plan.zone_mm", "%.2f", p->zone);
-    fputs(" mm</b></div><div class=\"card\"><span class=\"l\">predicted residual (target kind)</span><b>", f);
-    num(f, "plan.predicted_residual_D", "%.3f", fc->pred[fc->best].mag);
+/* An astigmatism as the sheet prints it: 0.01 D @ 1 deg, each number tied to plan.json. */
+static void astig(FILE *f, const char *key, kt_astig v)
+{
+    char k[128];
+    snprintf(k, sizeof k, "%s_D", key), num(f, k, "%.2f", v.mag);
     fputs(" D @ ", f);
-    num(f, "plan.predicted_residual_axis_deg", "%.1f", fc->pred[fc->best].axis);
-    fputs("&deg;</b></div></div>\n", f);
+    snprintf(k, sizeof k, "%s_axis_deg", key), num(f, k, "%.0f", kt_lp_axis_shown(v.axis, 0));
+    fputs("&deg;", f);
+}
 
-    fputs("<h2>1. The eye, as the surgeon sees it</h2>\n<div class=\"row\">\n<figure style=\"flex:0 1 520px\">", f);
-    eye_svg(f, a, arcs, narc);
-    fprintf(f, "<figcaption>The %s eye from the front, superior up, as the examiner faces the patient (TABO: 0&deg; at "
-               "the examiner's right, angles counter-clockwise); a surgeon seated at the head or temporally sees it turned "
-               "by 180&deg; or 90&deg;, the labels turning with it. S superior, I inferior, N nasal, T temporal (%s). Inner numbers: TABO degrees; outer: "
-               "clock hours (12 superior, 3 at the examiner's right). Red arcs: the relaxing incisions with their end "
-               "points; blue: the main incision (its width at the limbus); orange dashed: the steep meridian; grey dashed "
-               "circle: the incision zone. The bar is 5 mm.</figcaption></figure>\n",
-            p->eye == KT_EYE_OS ? "left" : "right",
-            p->eye == KT_EYE_OS ? "a left eye: nasal at the examiner's left, 180&deg;" : "a right eye: nasal at the examiner's right, 0&deg;");
-    fputs("<div style=\"flex:1 1 420px\"><table>\n<tr><th>arc</th><th>centre</th><th>extent</th><th>from</th><th>to</th>"
+/* The class of a steep axis (deg): with the rule 60-120, against 0-30 and 150-180, else oblique. */
+static const char *axis_class(double axis)
+{
+    double x = fmod(fmod(axis, 180) + 180, 180);
+    return x >= 60 && x <= 120 ? "with-the-rule" : x <= 30 || x >= 150 ? "against-the-rule" : "oblique";
+}
+
+/* The angle between two axes, deg [0, 90]. */
+static double axis_gap(double a, double b)
+{
+    double d = fmod(fabs(a - b), 180);
+    return d > 90 ? 180 - d : d;
+}
+
+/* The flip of a residual's axis, in words, when it lies more than 45 deg from the pre-operative
+ * axis (the residual's projection on the pre-operative astigmatism is then negative: an
+ * over-correction along the original meridian). */
+static void flip_words(FILE *f, const char *kind, kt_astig pre, kt_astig res, int narc)
+{
+    if (!(res.mag >= 0.005) || !(pre.mag >= 0.005) || !(axis_gap(pre.axis, res.axis) > 45)) return;
+    const char *to = axis_class(res.axis);
+    int same = strcmp(to, axis_class(pre.axis)) == 0;
+    fprintf(f, "<p class=\"flip\">%s the %s residual turns to %s%s (%.0f&deg;, %.0f&deg; from the pre-operative "
+               "%.0f&deg;).</p>\n",
+            narc ? "The plan over-corrects on purpose:" : "The main incision alone over-corrects:", kind,
+            same ? "the other " : "", to, kt_lp_axis_shown(res.axis, 0), axis_gap(pre.axis, res.axis),
+            kt_lp_axis_shown(pre.axis, 0));
+}
+
+/* The patient block: who, which eye (large), the plan's date, what the prediction is of. */
+static void patient_block(FILE *f, const kt_lp_answer *a, const kt_lriplan_opts *o, const kt_lri_files *fl)
+{
+    const kt_patient *p = &a->eye.p;
+    const kt_wound_scene *w = &a->scene.s.wound;
+    fputs("<section class=\"patient\"><div class=\"opeye\">", f);
+    text_key(f, "patient.eye", p->eye == KT_EYE_OS ? "OS" : "OD");
+    fprintf(f, "<small>%s eye</small></div>\n<table class=\"who\">\n<tr><th>patient</th><td>", p->eye == KT_EYE_OS ? "LEFT" : "RIGHT");
+    text_key(f, "patient.name", p->name);
+    fputs("</td></tr>\n", f);
+    if (p->id[0]) fputs("<tr><th>ID</th><td>", f), text_key(f, "patient.id", p->id), fputs("</td></tr>\n", f);
+    if (p->dob[0])
+        fputs("<tr><th>date of birth</th><td>", f), text_key(f, "patient.date_of_birth", p->dob), fputs("</td></tr>\n", f);
+    fputs("<tr><th>age</th><td>", f);
+    num(f, "patient.age", "%g", p->age);
+    fputs(" years</td></tr>\n", f);
+    if (p->surgeon[0]) fputs("<tr><th>surgeon</th><td>", f), text_key(f, "patient.surgeon", p->surgeon), fputs("</td></tr>\n", f);
+    fputs("<tr><th>date of the plan</th><td>", f);
+    text_key(f, "provenance.date", fl->date);
+    fputs("</td></tr>\n</table>\n<p class=\"wound\">", f);
+    if (w->state == KT_WOUND_HEALED && isfinite(w->months))
+        fprintf(f, "Predicted at %g months after surgery (healed wound; identified on published outcomes, validated: see "
+                   "docs/validation.md).", w->months);
+    else if (w->state == KT_WOUND_HEALED)
+        fputs("Predicted for the fully healed wound (healed wound, its asymptotic scar; identified on published outcomes, "
+              "validated: see docs/validation.md).", f);
+    else fputs("Predicted at the instant of cutting (immediate wound).", f);
+    fprintf(f, "</p></section>\n<p class=\"note\">lri-plan %s%s. A simulation's answer (keratome's model), to be weighed by "
+               "the surgeon.</p>\n",
+            KT_VERSION, o->fast ? ", --fast (coarse mesh: the arcs' effect about 10% under the default mesh's)" : "");
+}
+
+/* Marking with a degree gauge (Mendez ring): per arc, its centre meridian, then its end points
+ * in the order marked (clockwise as the surgeon sees the eye). */
+static void marking(FILE *f, const kt_patient *p, double blade, const kt_lp_arc *arcs, int narc)
+{
+    if (narc == 0) return;
+    fputs("<h3>Marking with a degree gauge (Mendez ring)</h3>\n<ol class=\"mark\">\n<li>Patient sitting upright: mark "
+          "the limbus at 0&deg; and 180&deg; (the horizontal). Under the microscope, set the gauge's 0&deg;&ndash;180&deg; "
+          "on those marks.</li>\n",
+          f);
+    for (int i = 0; i < narc; i++) {
+        const kt_lp_arc *q = &arcs[i];
+        double c = round(q->centre), fr = fmod(round(q->from), 360), to = fmod(round(q->to), 360);
+        fprintf(f, "<li>Arc %d, <b>%.0f&deg;</b> long: its centre at <b>%.0f&deg;</b>; mark first <b>%.0f&deg;</b> (%s), "
+                   "then <b>%.0f&deg;</b> (%s), clockwise.",
+                i + 1, q->arc, c, fr, q->from_clock, to, q->to_clock);
+        if (c >= 180 || fr >= 180 || to >= 180)
+            fprintf(f, " On a gauge numbered 0&ndash;180&deg; on each half, read %.0f&deg;, %.0f&deg; and %.0f&deg; on the "
+                       "inferior half.",
+                    fmod(c, 180), fmod(fr, 180), fmod(to, 180));
+        fputs("</li>\n", f);
+    }
+    fprintf(f, "<li>Cut at the %.1f mm zone, %.0f um deep, between the two marks of each arc.</li>\n</ol>\n", p->zone, 1000 * blade);
+}
+
+/* The astigmatism table: the main incision's SIA, the pre-operative astigmatism without and
+ * with it, the predicted residuals (the target's kind in bold), and each residual's flip. */
+static void astig_table(FILE *f, const kt_lp_answer *a, int narc)
+{
+    const kt_patient *p = &a->eye.p;
+    const kt_lp_choice *c = &a->choice;
+    int tot = p->target_kind == KT_TARGET_TOTAL;
+    kt_astig kpost, tpost;
+    kt_lp_post(a, &kpost, &tpost);
+    fprintf(f, "<table class=\"astig\">\n<tr><th>astigmatism</th><th>%skeratometric (what the biometer reads)%s</th>"
+               "<th>%stotal corneal%s</th></tr>\n",
+            tot ? "" : "<b>", tot ? "" : " &mdash; the target</b>", tot ? "<b>" : "", tot ? " &mdash; the target</b>" : "");
+    if (p->main_present) {
+        fprintf(f, "<tr><td>the main incision's SIA (%s)</td><td class=\"n\">",
+                p->main_simulate ? "simulated: its tunnel cut before the arcs" : "the surgeon's vector, as given");
+        astig(f, "main_incision.sia_keratometric", c->sia_kerato);
+        fputs("</td><td class=\"n\">", f);
+        astig(f, "main_incision.sia_total", c->sia_total);
+        fputs("</td></tr>\n", f);
+    }
+    fputs("<tr><td>pre-op, without the main incision</td><td class=\"n\">", f);
+    astig(f, "pre_op.without_main_incision.keratometric", c->bare_kerato);
+    fputs("</td><td class=\"n\">", f);
+    astig(f, "pre_op.without_main_incision.total", c->bare_total);
+    fputs("</td></tr>\n<tr><td>pre-op, with the main incision (what the arcs treat)</td><td class=\"n\">", f);
+    astig(f, "pre_op.with_main_incision.keratometric", c->with_kerato);
+    fputs("</td><td class=\"n\">", f);
+    astig(f, "pre_op.with_main_incision.total", c->with_total);
+    fprintf(f, "</td></tr>\n<tr><td>predicted residual</td><td class=\"n\">%s", tot ? "" : "<b>");
+    astig(f, "plan.post_op_keratometric", kpost);
+    fprintf(f, "%s</td><td class=\"n\">%s", tot ? "" : "</b>", tot ? "<b>" : "");
+    astig(f, "plan.post_op_total", tpost);
+    fprintf(f, "%s</td></tr>\n</table>\n", tot ? "</b>" : "");
+    flip_words(f, "keratometric", c->bare_kerato, kpost, narc);
+    flip_words(f, "total corneal", c->bare_total, tpost, narc);
+    fprintf(f, "<p class=\"note\">Target: the <b>%s</b> residual at most ", tot ? "total corneal" : "keratometric");
+    num(f, "target.residual_D", "%.2f", p->target_residual);
+    fputs(" D. Dioptres to 0.01 D, axes to 1&deg; (TABO); the astigmatism treated (above) also in the 0.25 D steps a surgeon marks.</p>", f);
+}
+
+/* The arcs' table: centre, extent, the end points in the order marked, chord, length. */
+static void arcs_table(FILE *f, const kt_lp_answer *a, const kt_lp_arc *arcs, int narc)
+{
+    const kt_patient *p = &a->eye.p;
+    fputs("<table>\n<tr><th>arc</th><th>centre</th><th>extent</th><th>mark first</th><th>then</th>"
           "<th>chord at the zone</th><th>arc length</th></tr>\n", f);
     for (int i = 0; i < narc; i++) {
         char k[64];
         fprintf(f, "<tr><td>%d</td><td class=\"n\">", i + 1);
-        snprintf(k, sizeof k, "plan.arcs.%d.centre_deg", i), num(f, k, "%.2f", arcs[i].centre);
+        snprintf(k, sizeof k, "plan.arcs.%d.centre_deg", i), num(f, k, "%.0f", arcs[i].centre);
         fputs("&deg;</td><td class=\"n\">", f);
-        snprintf(k, sizeof k, "plan.arcs.%d.arc_deg", i), num(f, k, "%.1f", arcs[i].arc);
+        snprintf(k, sizeof k, "plan.arcs.%d.arc_deg", i), num(f, k, "%.0f", arcs[i].arc);
         fputs("&deg;</td><td class=\"n\">", f);
-        snprintf(k, sizeof k, "plan.arcs.%d.from_deg", i), num(f, k, "%.1f", arcs[i].from);
+        snprintf(k, sizeof k, "plan.arcs.%d.from_deg", i), num(f, k, "%.0f", arcs[i].from);
         fputs("&deg; (", f);
         snprintf(k, sizeof k, "plan.arcs.%d.from_clock", i), text_key(f, k, arcs[i].from_clock);
         fputs(")</td><td class=\"n\">", f);
-        snprintf(k, sizeof k, "plan.arcs.%d.to_deg", i), num(f, k, "%.1f", arcs[i].to);
+        snprintf(k, sizeof k, "plan.arcs.%d.to_deg", i), num(f, k, "%.0f", arcs[i].to);
         fputs("&deg; (", f);
         snprintf(k, sizeof k, "plan.arcs.%d.to_clock", i), text_key(f, k, arcs[i].to_clock);
         fputs(")</td><td class=\"n\">", f);
         snprintf(k, sizeof k, "plan.arcs.%d.chord_mm", i), num(f, k, "%.2f", arcs[i].chord);
         fprintf(f, " mm</td><td class=\"n\">%.2f mm</td></tr>\n", arcs[i].arc * DEG * 0.5 * p->zone);
     }
-    fputs("</table>\n<p class=\"note\">End points run counter-clockwise from <i>from</i> to <i>to</i>; clock positions "
-          "h:mm (12:30 is half-way between 12 and 1). The blade depth is ", f);
-    fprintf(f, "%.0f%% of the pachymetry at the zone (", 100 * a->blade / a->t_zone);
-    num(f, "patient.thickness_at_zone_um", "%.1f", 1000 * a->t_zone);
-    fputs(" um).</p>\n<table>\n<tr><th>astigmatism</th><th>keratometric</th><th>total corneal</th></tr>\n<tr><td>pre-op", f);
-    fputs(a->main_vec.mag > 0 ? " (with the main incision's SIA)" : "", f);
-    fputs("</td><td class=\"n\">", f);
-    num(f, "pre_op.keratometric_D", "%.3f", a->pre_kerato.mag);
+    fputs("</table>\n<p class=\"note\">End points in the order they are marked: clockwise as the surgeon sees the eye, "
+          "from the first to the second (a turn of the view keeps clockwise clockwise). Clock positions h:mm (12 superior; "
+          "12:30 is half-way between 12 and 1). The blade depth is ",
+          f);
+    fprintf(f, "%.0f%% of the pachymetry at the zone (", 100 * a->eye.blade / a->eye.t_zone);
+    num(f, "patient.thickness_at_zone_um", "%.0f", 1000 * a->eye.t_zone);
+    fputs(" um).</p>\n", f);
+}
+
+/* The verdict and the cards: what is cut, in the steps a surgeon sets and marks. */
+static void verdict(FILE *f, const kt_lp_answer *a, const kt_lp_arc *arcs, int narc)
+{
+    const kt_patient *p = &a->eye.p;
+    int ci = a->choice.chosen, cb = a->choice.best[ci];
+    const kt_lp_family *fc = &a->fam.f[ci];
+    const kt_astig *cres = &a->choice.pred[ci][cb];
+    const char *tkind = p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric";
+    int ok = cres->mag <= p->target_residual;
+    fprintf(f, "<p class=\"verdict%s\">", ok ? " ok" : "");
+    if (narc == 0) fprintf(f, "No arc: none lowers the %s astigmatism.", tkind);
+    else if (narc == 1) fprintf(f, "One arc of %.0f&deg; at the %.1f mm zone, %.0f um deep.", arcs[0].arc, p->zone, 1000 * a->eye.blade);
+    else if (fc->unequal)
+        fprintf(f, "A pair of unequal arcs, %.0f&deg; and %.0f&deg;, at the %.1f mm zone, %.0f um deep.", arcs[0].arc, arcs[1].arc,
+                p->zone, 1000 * a->eye.blade);
+    else fprintf(f, "A pair of arcs of %.0f&deg; each at the %.1f mm zone, %.0f um deep.", arcs[0].arc, p->zone, 1000 * a->eye.blade);
+    fprintf(f, " Predicted <b>%s</b> residual %.2f D: %s the %.2f D target.</p>\n", tkind, cres->mag,
+            ok ? "reaches" : "does NOT reach", p->target_residual);
+    fputs("<div class=\"cards\">", f);
+    fputs("<div class=\"card\"><span class=\"l\">incisions</span><b>", f);
+    text_key(f, "plan.incisions", fc->name);
+    fputs("</b></div><div class=\"card\"><span class=\"l\">blade depth</span><b>", f);
+    num(f, "plan.blade_um", "%.0f", 1000 * a->eye.blade);
+    fputs(" um</b></div><div class=\"card\"><span class=\"l\">zone (optical-zone diameter)</span><b>", f);
+    num(f, "plan.zone_mm", "%.1f", p->zone);
+    fprintf(f, " mm</b></div><div class=\"card\"><span class=\"l\">treated (with the main incision, %s, 0.25 D steps)</span>"
+               "<b>%.2f D @ %.0f&deg;</b></div>",
+            tkind, 0.25 * round(4 * (p->target_kind == KT_TARGET_TOTAL ? a->choice.with_total : a->choice.with_kerato).mag),
+            kt_lp_axis_shown((p->target_kind == KT_TARGET_TOTAL ? a->choice.with_total : a->choice.with_kerato).axis, 0));
+    fprintf(f, "<div class=\"card\"><span class=\"l\">predicted residual (<strong>%s</strong>)</span><b>", tkind);
+    num(f, "plan.predicted_residual_D", "%.2f", cres->mag);
     fputs(" D @ ", f);
-    num(f, "pre_op.keratometric_axis_deg", "%.1f", a->pre_kerato.axis);
-    fputs("&deg;</td><td class=\"n\">", f);
-    num(f, "pre_op.total_D", "%.3f", a->pre_total.mag);
-    fputs(" D @ ", f);
-    num(f, "pre_op.total_axis_deg", "%.1f", a->pre_total.axis);
-    fputs("&deg;</td></tr>\n<tr><td>predicted post-op</td><td class=\"n\">", f);
-    num(f, "plan.post_op_keratometric_D", "%.3f", kpost.mag);
-    fputs(" D @ ", f);
-    num(f, "plan.post_op_keratometric_axis_deg", "%.1f", kpost.axis);
-    fputs("&deg;</td><td class=\"n\">", f);
-    num(f, "plan.post_op_total_D", "%.3f", tpost.mag);
-    fputs(" D @ ", f);
-    num(f, "plan.post_op_total_axis_deg", "%.1f", tpost.axis);
-    fprintf(f, "&deg;</td></tr>\n</table>\n<p class=\"note\">Target: %s residual at most ", tkind);
-    num(f, "target.residual_D", "%.2f", p->target_residual);
-    fputs(" D.</p>", f);
-    kt_lri_band_html(a, f);
+    num(f, "plan.predicted_residual_axis_deg", "%.0f", kt_lp_axis_shown(cres->axis, 0));
+    fputs("&deg;</b></div></div>\n", f);
+}
+
+static void page(FILE *f, const kt_lp_answer *a, const kt_lriplan_opts *o, const kt_lri_files *fl)
+{
+    const kt_patient *p = &a->eye.p;
+    const char *report = fl->report;
+    kt_lp_arc arcs[2];
+    int narc = kt_lp_arcs(a, arcs);
+    const char *tkind = p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric";
+    char title[256];
+    snprintf(title, sizeof title, "LRI plan: %s (%s)", p->name, p->eye == KT_EYE_OS ? "OS" : "OD");
+    kt_html_begin(f, title);
+    fputs("<style>.patient{display:flex;gap:24px;align-items:center;background:#fff;padding:10px 16px;border-radius:8px;"
+          "margin-top:14px}.opeye{font-size:56px;font-weight:800;color:#8e1b10;line-height:1}.opeye small{display:block;"
+          "font-size:18px;font-weight:700}.who th{background:none;text-align:right;color:#5b6670}.wound{font-size:15px;"
+          "font-weight:600;max-width:420px}.flip{font-weight:600;color:#8e1b10}.mark li{margin:4px 0}</style>\n",
+          f);
+    fputs("<header><h1>Limbal relaxing incisions: the plan for ", f);
+    kt_html_text(f, p->name);
+    fputs("</h1><p>lri-plan ", f);
+    text_key(f, "version", KT_VERSION);
+    fputs("</p></header>\n<main>\n", f);
+    patient_block(f, a, o, fl);
+    verdict(f, a, arcs, narc);
+    fprintf(f, "<h2>1. The eye, as %s</h2>\n<div class=\"row\">\n<figure style=\"flex:0 1 520px\">",
+            o->view == KT_LRI_VIEW_EXAMINER ? "the examiner sees it" : "the surgeon sees it");
+    kt_lri_labels lab;
+    kt_lri_eye_svg(f, p, arcs, narc, o->view, &lab);
+    fprintf(f, "<figcaption>The %s eye from the front as %s (lri-plan --view %s; the default: temporal). TABO degrees "
+               "(inner ring) and clock hours (outer; 12 superior) turn with the eye. S superior, I inferior, N nasal, "
+               "T temporal. Red arcs: the relaxing incisions, their end points labelled in the order marked "
+               "(clockwise); blue: the main incision (its width at the limbus); orange dashed: the steep meridian; grey "
+               "dashed circle: the incision zone. The bar is 5 mm.</figcaption></figure>\n",
+            p->eye == KT_EYE_OS ? "left" : "right", kt_lri_view_words(o->view), kt_lri_view_name(o->view));
+    fputs("<div style=\"flex:1 1 420px\">", f);
+    arcs_table(f, a, arcs, narc);
+    marking(f, p, a->eye.blade, arcs, narc);
+    astig_table(f, a, narc);
+    band_html(a, f);
     fputs("</div>\n</div>\n", f);
 
     fputs("<h2>2. SIA and residual against arc</h2>\n<div class=\"row\">\n<figure>", f);
@@ -328,29 +400,37 @@ static void page(FILE *f, const kt_lri_answer *a, const kt_lriplan_opts *o, cons
     curve_svg(f, a, 1);
     fprintf(f, "<figcaption>The predicted %s residual (pre-operative astigmatism, simulated arcs%s by double-angle vector "
                "sum); green dashed: the target.</figcaption></figure>\n</div>\n",
-            tkind, a->main_vec.mag > 0 ? " and the main incision's SIA" : "");
+            tkind, a->choice.main_vec.mag > 0 ? " and the main incision's SIA" : "");
     fputs("<table>\n<tr><th>candidate</th><th>centred on</th><th>opposite arc / arc</th><th>best arc</th><th>residual</th></tr>\n", f);
-    for (int i = 0; i < a->nfam; i++) {
-        const kt_lri_family *c = &a->fam[i];
+    for (int i = 0; i < a->fam.n; i++) {
+        const kt_lp_family *c = &a->fam.f[i];
+        const kt_lp_run *r = &a->run.r[i];
+        int b = a->choice.best[i];
         char k[64];
-        fprintf(f, "<tr><td>%s%s</td><td class=\"n\">%.0f&deg;</td><td class=\"n\">", c->name, i == a->chosen ? " (chosen)" : "",
-                c->meridian);
+        fprintf(f, "<tr><td>%s%s</td><td class=\"n\">%.0f&deg;</td><td class=\"n\">", c->name,
+                i == a->choice.chosen ? " (chosen)" : "", a->trim.t[i].meridian);
         snprintf(k, sizeof k, "candidates.%d.ratio", i), num(f, k, "%.4f", c->ratio);
         fputs("</td><td class=\"n\">", f);
-        snprintf(k, sizeof k, "candidates.%d.best_arc_deg", i), num(f, k, "%.1f", c->arc[c->best]);
+        if (!r->ran) {
+            fputs("&ndash;</td><td>", f);
+            kt_html_text(f, a->trim.t[i].why);
+            fputs("</td></tr>\n", f);
+            continue;
+        }
+        snprintf(k, sizeof k, "candidates.%d.best_arc_deg", i), num(f, k, "%.1f", r->arc[b]);
         if (c->paired) {
             fputs("&deg; + ", f);
-            snprintf(k, sizeof k, "candidates.%d.best_arc_opposite_deg", i), num(f, k, "%.1f", c->arc_opp[c->best]);
+            snprintf(k, sizeof k, "candidates.%d.best_arc_opposite_deg", i), num(f, k, "%.1f", r->arc_opp[b]);
         }
         fputs("&deg;</td><td class=\"n\">", f);
-        snprintf(k, sizeof k, "candidates.%d.best_residual_D", i), num(f, k, "%.3f", c->pred[c->best].mag);
+        snprintf(k, sizeof k, "candidates.%d.best_residual_D", i), num(f, k, "%.3f", a->choice.pred[i][b].mag);
         fputs(" D</td></tr>\n", f);
     }
     fputs("</table>\n", f);
-    for (int k = 0; k < 3; k++)
-        if (a->clear_note[k][0]) {
+    for (int i = 0; i < a->fam.n; i++) /* the clearance's trimming (lri-plan(1), CLEARANCE) */
+        if (a->trim.t[i].why[0] && a->run.r[i].ran) {
             fputs("<p class=\"note\">Clearance: ", f);
-            kt_html_text(f, a->clear_note[k]);
+            kt_html_text(f, a->trim.t[i].why);
             fputs(".</p>\n", f);
         }
 
@@ -366,50 +446,50 @@ static void page(FILE *f, const kt_lri_answer *a, const kt_lriplan_opts *o, cons
     row2(f, "posterior K flat", "patient.posterior.k_flat_D", "%.3f", kt_patient_post_k(p->post.r_flat), "D");
     row2(f, "posterior steep axis", "patient.posterior.steep_axis_deg", "%.2f", p->post.axis, "deg");
     fprintf(f, "<tr><td>posterior from</td><td>%s</td></tr>\n",
-            p->post.source == KT_SOURCE_DEFAULT ? "population default (Koch et al. 2012)"
+            p->post.source == KT_SOURCE_DEFAULT ? "population default (Eom et al. 2015)"
             : p->post.source == KT_SOURCE_PENTACAM ? "the Pentacam export" : "the posterior keratometry given");
     row2(f, "central thickness", "patient.central_thickness_um", "%.1f", 1000 * p->t_central, "um");
     row2(f, "white-to-white", "patient.white_to_white_mm", "%.2f", p->wtw, "mm");
-    row2(f, "IOP", "patient.iop_mmHg", "%.2f", p->iop / 133.322387415e-6, "mmHg");
+    row2(f, "IOP", "patient.iop_mmHg", "%.2f", p->iop / KT_MMHG_MPA, "mmHg");
     if (p->main_present) {
         fprintf(f, "<tr><td>main incision</td><td>%.1f mm %s at ", p->main_width,
                 p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear corneal");
         num(f, "main_incision.meridian_deg", "%.1f", p->main_meridian);
         fprintf(f, "&deg;; %s", p->main_simulate ? "simulate: not in this model yet, its SIA left out" : "the surgeon's SIA ");
         if (!p->main_simulate) {
-            num(f, "main_incision.sia_added_D", "%.3f", a->main_vec.mag);
+            num(f, "main_incision.sia_added_D", "%.3f", a->choice.main_vec.mag);
             fputs(" D @ ", f);
-            num(f, "main_incision.sia_axis_deg", "%.1f", a->main_vec.axis);
+            num(f, "main_incision.sia_axis_deg", "%.1f", kt_lp_axis_shown(a->choice.main_vec.axis, 1));
             fputs("&deg; added", f);
         }
         fputs("</td></tr>\n", f);
     }
     fputs("</table></div>\n", f);
-    if (a->fitted) {
+    if (a->eye.fitted) {
         fputs("<div style=\"flex:1 1 520px\"><table>\n<tr><th>Pentacam fit</th><th>radii (K)</th><th>steep axis</th><th>Q</th>"
               "<th>residual rms / max</th><th>cells</th></tr>\n", f);
-        fit_row(f, "anterior", "fit.anterior", &a->fit_ant, 337.5);
-        if (a->fit_post_ok) fit_row(f, "posterior", "fit.posterior", &a->fit_post, -KT_PATIENT_N_POST);
+        fit_row(f, "anterior", "fit.anterior", &a->eye.fit_ant, KT_CURV_N_KERATO);
+        if (a->eye.fit_post_ok) fit_row(f, "posterior", "fit.posterior", &a->eye.fit_post, -KT_PATIENT_N_POST);
         fputs("</table>\n", f);
-        if (a->fit_pachy_ok) {
+        if (a->eye.fit_pachy_ok) {
             fputs("<p class=\"note\">Pachymetry: t(r) = ", f);
-            num(f, "fit.pachymetry.t0_um", "%.2f", 1000 * a->fit_pachy.t0);
+            num(f, "fit.pachymetry.t0_um", "%.2f", 1000 * a->eye.fit_pachy.t0);
             fputs(" um + ", f);
-            num(f, "fit.pachymetry.t2_um_per_mm2", "%.4f", 1000 * a->fit_pachy.t2);
+            num(f, "fit.pachymetry.t2_um_per_mm2", "%.4f", 1000 * a->eye.fit_pachy.t2);
             fputs(" r&sup2; + ", f);
-            num(f, "fit.pachymetry.t4_um_per_mm4", "%.5f", 1000 * a->fit_pachy.t4);
+            num(f, "fit.pachymetry.t4_um_per_mm4", "%.5f", 1000 * a->eye.fit_pachy.t4);
             fputs(" r&#8308;, residual rms ", f);
-            num(f, "fit.pachymetry.rms_um", "%.3f", 1000 * a->fit_pachy.rms);
+            num(f, "fit.pachymetry.rms_um", "%.3f", 1000 * a->eye.fit_pachy.rms);
             fputs(" um.</p>\n", f);
         }
-        if (a->halves_ok) {
+        if (a->eye.halves_ok) {
             fputs("<p class=\"note\">Half-meridians (axial power over the 3 mm zone): ", f);
-            num(f, "halves.astig_at_axis_D", "%.3f", a->half_a);
+            num(f, "halves.astig_at_axis_D", "%.3f", a->eye.half_a);
             fprintf(f, " D of astigmatism at %.0f&deg;, ", p->ant.axis);
-            num(f, "halves.astig_opposite_D", "%.3f", a->half_b);
+            num(f, "halves.astig_opposite_D", "%.3f", a->eye.half_b);
             fprintf(f, " D at %.0f&deg;; ratio ", fmod(p->ant.axis + 180, 360));
-            num(f, "halves.ratio", "%.4f", a->ratio);
-            fprintf(f, " (%s).</p>\n", a->ratio < KT_LRIPLAN_SYMMETRIC ? "asymmetric: unequal pairs tried, the longer arc on the steeper half"
+            num(f, "halves.ratio", "%.4f", a->eye.ratio);
+            fprintf(f, " (%s).</p>\n", a->eye.ratio < KT_LP_SYMMETRIC ? "asymmetric: unequal pairs tried, the longer arc on the steeper half"
                                                                        : "symmetric");
         }
         fputs("</div>\n", f);
@@ -421,14 +501,14 @@ static void page(FILE *f, const kt_lri_answer *a, const kt_lriplan_opts *o, cons
     kt_html_text(f, KT_VERSION);
     fputs("</td></tr>\n<tr><td>mesh</td><td>eye.msh, content hash ", f);
     char hash[32];
-    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)a->mesh_hash);
+    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)a->mesh.hash);
     text_key(f, "provenance.mesh_hash", hash);
     fputs(", ", f);
-    num(f, "provenance.mesh_nodes", "%.0f", a->nodes);
+    num(f, "provenance.mesh_nodes", "%.0f", a->mesh.m.nn);
     fprintf(f, " nodes%s</td></tr>\n", o->fast ? " (--fast)" : "");
     fputs("<tr><td>step</td><td>", f);
     num(f, "provenance.step_deg", "%g", o->step);
-    fprintf(f, " deg per step, centre-out; meshing %.1f s, solves %.1f s</td></tr>\n", a->mesh_seconds, a->solve_seconds);
+    fprintf(f, " deg per step, centre-out; meshing %.1f s, solves %.1f s</td></tr>\n", a->mesh.seconds, a->run.solve_seconds);
     fputs("<tr><td>the chosen run's teaching report</td><td>", f);
     if (report) {
         fputs("<a href=\"", f);
@@ -438,16 +518,17 @@ static void page(FILE *f, const kt_lri_answer *a, const kt_lriplan_opts *o, cons
         fputs("</a> (what the cut does to the cornea, step by step)", f);
     } else fputs("none (no arc)", f);
     fputs("</td></tr>\n</table>\n<p class=\"note\">The scene written (scene.yaml), from which the mesh was made:</p>\n", f);
-    if (scene_text(f, o->outdir) != 0) fputs("<p class=\"note\">(scene.yaml could not be read back)</p>\n", f);
+    if (scene_text(f, a) != 0) fputs("<p class=\"note\">(the scene could not be written)</p>\n", f);
     fputs("</main>\n", f);
     kt_html_end(f);
 }
 
-int kt_lri_write_html(const kt_lri_answer *a, const kt_lriplan_opts *o, const char *report, const char *path, kt_err *e)
+int kt_lri_write_html(const kt_lp_answer *a, const kt_lriplan_opts *o, const kt_lri_files *fl, const char *path,
+                      kt_err *e)
 {
     kt_out out;
     if (kt_out_open(&out, path, e)) return e->code;
-    page(out.f, a, o, report);
+    page(out.f, a, o, fl);
     if (kt_out_failed(&out, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
 }

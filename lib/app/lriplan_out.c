@@ -1,257 +1,423 @@
-/* lriplan_out.c: lri-plan's answer: the predicted astigmatism per arc, the choice, plan.json
- * and the one-screen summary (lri-plan(1)). */
+/* lriplan_out.c: lri-plan's plan.json (through the one JSON writer, lib/io/json.h) and its
+ * one-screen summary (lri-plan(1), FILES). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "json.h"
+#include "lp_family.h"
+#include "lriplan_eye.h"
 #include "lriplan_int.h"
+#include "units.h"
 
-static kt_astig add(kt_astig a, kt_astig b)
+static const char *eye_name(const kt_patient *p) { return p->eye == KT_EYE_OS ? "OS" : "OD"; }
+static const char *target_name(const kt_patient *p)
 {
-    double x[2], y[2];
-    kt_astig_xy(a, x);
-    kt_astig_xy(b, y);
-    return kt_astig_from_xy(x[0] + y[0], x[1] + y[1]);
+    return p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric";
 }
 
-/* A clock hour as the surgeon reads the eye (12 superior, 3 at the examiner's right), in
- * [1, 13): 12.5 is half past twelve. */
-static double clock_hour(double deg)
+/* An astigmatism as two members, key_D and key_axis_deg (the axis to 0.1 deg, adec decimals). */
+static void jastig_to(kt_json *j, const char *key, kt_astig a, int dec, int adec)
 {
-    double h = fmod(3 - deg / 30 + 48, 12);
-    return h < 1 ? h + 12 : h;
+    char k[96];
+    snprintf(k, sizeof k, "%s_D", key), kt_json_num(j, k, a.mag, dec);
+    snprintf(k, sizeof k, "%s_axis_deg", key), kt_json_num(j, k, kt_lp_axis_shown(a.axis, adec), adec);
 }
 
-/* The clock position as "h:mm" (12:50 is just past twelve, towards one). */
-void kt_lri_clock(double deg, char out[8])
+static void jastig(kt_json *j, const char *key, kt_astig a, int dec) { jastig_to(j, key, a, dec, 1); }
+
+static void json_patient(kt_json *j, const kt_lp_answer *a)
 {
-    int m = (int)lround(clock_hour(deg) * 60) % 720;
-    int h = m / 60 % 12;
-    snprintf(out, 8, "%d:%02d", h == 0 ? 12 : h, m % 60);
+    const kt_patient *p = &a->eye.p;
+    kt_json_obj(j, "patient");
+    kt_json_str(j, "file", p->path), kt_json_str(j, "name", p->name), kt_json_str(j, "eye", eye_name(p));
+    kt_json_str(j, "id", p->id), kt_json_str(j, "date_of_birth", p->dob), kt_json_str(j, "surgeon", p->surgeon);
+    kt_json_num(j, "age", p->age, -6), kt_json_num(j, "iop_mmHg", p->iop / KT_MMHG_MPA, 2);
+    kt_json_obj(j, "anterior");
+    kt_json_str(j, "source", a->eye.fitted ? "pentacam" : "keratometry");
+    kt_json_num(j, "k_steep_D", kt_patient_k(p->ant.r_steep), 3), kt_json_num(j, "k_flat_D", kt_patient_k(p->ant.r_flat), 3);
+    kt_json_num(j, "steep_axis_deg", p->ant.axis, 2);
+    kt_json_num(j, "r_steep_mm", p->ant.r_steep, 4), kt_json_num(j, "r_flat_mm", p->ant.r_flat, 4);
+    kt_json_end(j);
+    kt_json_obj(j, "posterior");
+    kt_json_str(j, "source", p->post.source == KT_SOURCE_DEFAULT    ? "population default (Eom et al. 2015)"
+                             : p->post.source == KT_SOURCE_PENTACAM ? "pentacam" : "keratometry");
+    kt_json_num(j, "k_steep_D", kt_patient_post_k(p->post.r_steep), 3);
+    kt_json_num(j, "k_flat_D", kt_patient_post_k(p->post.r_flat), 3);
+    kt_json_num(j, "steep_axis_deg", p->post.axis, 2);
+    kt_json_end(j);
+    kt_json_num(j, "central_thickness_um", 1000 * p->t_central, 1);
+    kt_json_num(j, "thickness_at_zone_um", 1000 * a->eye.t_zone, 1);
+    kt_json_num(j, "white_to_white_mm", p->wtw, 2);
+    kt_json_end(j);
 }
 
-static double wrap360(double d) { return fmod(fmod(d, 360) + 360, 360); }
-
-void kt_lri_choose(kt_lri_answer *a)
+/* A fitted surface; with mesh's departure (dep_order > 0), the surface the mesh carries
+ * (kt_surffit_measured_eye: the base plus the map's Zernike departure) as mesh_surface. */
+static void json_surffit(kt_json *j, const char *key, const kt_surffit *s, const kt_surffit *mesh)
 {
-    const kt_patient *p = &a->p;
-    /* The posterior's toricity is in the mesh (keratome-patient(5)): the simulated total
-     * corneal astigmatism (curvature's reading of both surfaces) carries it. */
-    a->main_vec.mag = p->main_present && !p->main_simulate ? p->main_sia : 0;
-    a->main_vec.axis = p->main_sia_axis;
-    a->chosen = 0;
-    double best = INFINITY;
-    for (int i = 0; i < a->nfam; i++) {
-        kt_lri_family *f = &a->fam[i];
-        f->best = 0;
-        for (int k = 0; k <= f->nstep; k++) {
-            kt_astig sim = p->target_kind == KT_TARGET_TOTAL ? f->total[k] : f->kerato[k];
-            f->pred[k] = add(sim, a->main_vec);
-            if (f->pred[k].mag < f->pred[f->best].mag - 1e-9) f->best = k;
-        }
-        double r = f->pred[f->best].mag;
-        /* Within 0.01 D, the fewer incisions (families run single first). */
-        if (r < best - 0.01) best = r, a->chosen = i;
+    kt_json_obj(j, key);
+    kt_json_num(j, "r_steep_mm", s->r_steep, 5), kt_json_num(j, "r_flat_mm", s->r_flat, 5);
+    kt_json_num(j, "axis_deg", s->axis, 3), kt_json_num(j, "Q", s->conic, 4);
+    kt_json_num(j, "rms_um", 1000 * s->rms, 3), kt_json_num(j, "max_um", 1000 * s->max_resid, 3);
+    kt_json_int(j, "cells", s->npts);
+    if (mesh->dep_order > 0) {
+        kt_json_obj(j, "mesh_surface");
+        kt_json_int(j, "zernike_order", mesh->dep_order), kt_json_num(j, "zone_mm", 2 * mesh->dep_radius, -6);
+        kt_json_num(j, "rms_um", 1000 * mesh->dep_rms, 4), kt_json_num(j, "max_um", 1000 * mesh->dep_max, 4);
+        kt_json_int(j, "cells", mesh->dep_npts);
+        kt_json_end(j);
     }
-    if (a->nfam) {
-        const kt_lri_family *f0 = &a->fam[0];
-        a->pre_kerato = add(f0->kerato_intact, a->main_vec);
-        a->pre_total = add(f0->total_intact, a->main_vec);
+    kt_json_end(j);
+}
+
+static void json_fit(kt_json *j, const kt_lp_answer *a)
+{
+    const kt_lp_eye *y = &a->eye;
+    if (!y->fitted) return;
+    kt_json_obj(j, "fit");
+    kt_json_num(j, "zone_mm", y->fit_ant.zone, -6);
+    json_surffit(j, "anterior", &y->fit_ant, &a->scene.mesh_ant);
+    if (y->fit_post_ok) json_surffit(j, "posterior", &y->fit_post, &a->scene.mesh_post);
+    if (y->fit_pachy_ok) {
+        const kt_pachyfit *q = &y->fit_pachy;
+        kt_json_obj(j, "pachymetry");
+        kt_json_num(j, "t0_um", 1000 * q->t0, 2), kt_json_num(j, "t2_um_per_mm2", 1000 * q->t2, 4);
+        kt_json_num(j, "t4_um_per_mm4", 1000 * q->t4, 5), kt_json_num(j, "r_max_mm", q->r_max, -6);
+        kt_json_num(j, "rms_um", 1000 * q->rms, 3), kt_json_num(j, "max_um", 1000 * q->max_resid, 3);
+        kt_json_int(j, "cells", q->npts);
+        kt_json_end(j);
     }
-    kt_lri_main_sia(a);
+    kt_json_end(j);
 }
 
-int kt_lri_arcs(const kt_lri_answer *a, kt_lri_arc arcs[2])
+static void json_main(kt_json *j, const kt_lp_answer *a)
 {
-    const kt_lri_family *f = &a->fam[a->chosen];
-    if (a->nfam == 0 || f->arc[f->best] <= 0) return 0;
-    int n = 1 + f->paired;
-    for (int i = 0; i < n; i++) {
-        kt_lri_arc *r = &arcs[i];
-        r->centre = wrap360(f->meridian + 180 * i);
-        r->arc = i ? f->arc_opp[f->best] : f->arc[f->best];
-        r->from = wrap360(r->centre - r->arc / 2), r->to = wrap360(r->centre + r->arc / 2);
-        kt_lri_clock(r->from, r->from_clock), kt_lri_clock(r->to, r->to_clock);
-        r->chord = a->p.zone * sin(r->arc / 2 * KT_CURV_DEG);
+    const kt_patient *p = &a->eye.p;
+    int c = a->choice.chosen;
+    kt_json_obj(j, "main_incision");
+    kt_json_bool(j, "present", p->main_present);
+    kt_json_num(j, "meridian_deg", p->main_meridian, 1), kt_json_num(j, "width_mm", p->main_width, 2);
+    kt_json_str(j, "kind", p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear_corneal");
+    kt_json_str(j, "sia", !p->main_present ? "none" : p->main_simulate ? "simulated (a tunnel cut before the arcs)"
+                                                                       : "surgeon's vector");
+    kt_json_num(j, "sia_added_D", a->choice.main_vec.mag, 3), kt_json_num(j, "sia_axis_deg", kt_lp_axis_shown(a->choice.main_vec.axis, 1), 1);
+    kt_json_int(j, "simulated_steps", c >= 0 ? a->run.r[c].skip : 0);
+    jastig(j, "simulated_sia_keratometric", a->choice.main_sia_kerato, 4);
+    jastig(j, "simulated_sia_total", a->choice.main_sia_total, 4);
+    jastig(j, "sia_keratometric", a->choice.sia_kerato, 3); /* the SIA used, simulated or given */
+    jastig(j, "sia_total", a->choice.sia_total, 3);
+    kt_json_end(j);
+}
+
+static void json_arc(kt_json *j, const kt_lp_arc *q)
+{
+    kt_json_num(j, "centre_deg", q->centre, 2), kt_json_num(j, "arc_deg", q->arc, 1);
+    kt_json_num(j, "from_deg", q->from, 1), kt_json_num(j, "to_deg", q->to, 1);
+    kt_json_str(j, "from_clock", q->from_clock), kt_json_str(j, "to_clock", q->to_clock);
+    kt_json_num(j, "chord_mm", q->chord, 2);
+}
+
+static void json_plan(kt_json *j, const kt_lp_answer *a)
+{
+    const kt_patient *p = &a->eye.p;
+    int c = a->choice.chosen, k = a->choice.best[c];
+    const kt_lp_run *r = &a->run.r[c];
+    kt_lp_arc arcs[2], none;
+    int narc = kt_lp_arcs(a, arcs);
+    memset(&none, 0, sizeof none);
+    none.centre = none.from = none.to = a->trim.t[c].meridian;
+    kt_json_obj(j, "plan");
+    kt_json_str(j, "incisions", a->fam.f[c].name);
+    json_arc(j, narc ? &arcs[0] : &none);
+    kt_json_num(j, "arc_opposite_deg", r->arc_opp[k], 1);
+    kt_json_num(j, "zone_mm", p->zone, 2), kt_json_num(j, "blade_um", 1000 * a->eye.blade, 0);
+    kt_json_arr(j, "arcs");
+    for (int i = 0; i < narc; i++) kt_json_obj(j, NULL), json_arc(j, &arcs[i]), kt_json_end(j);
+    kt_json_end(j);
+    jastig(j, "predicted_residual", a->choice.pred[c][k], 3);
+    kt_json_bool(j, "reached", a->choice.pred[c][k].mag <= p->target_residual);
+    kt_astig kp, tp;
+    kt_lp_post(a, &kp, &tp);
+    jastig(j, "post_op_keratometric", kp, 3);
+    jastig(j, "post_op_total", tp, 3);
+    kt_json_int(j, "run_step", k + r->skip);
+    kt_json_end(j);
+}
+
+static void json_band1(kt_json *j, const char *key, const kt_lp_band *b)
+{
+    kt_json_obj(j, key);
+    kt_json_num(j, "mean_D", b->mag, 4), kt_json_num(j, "sd_D", b->sd, 4);
+    kt_json_num(j, "lo90_D", b->lo, 4), kt_json_num(j, "hi90_D", b->hi, 4);
+    kt_json_arr(j, "vector_D"), kt_json_num(j, NULL, b->mean[0], 5), kt_json_num(j, NULL, b->mean[1], 5), kt_json_end(j);
+    kt_json_arr(j, "cov_D2");
+    kt_json_num(j, NULL, b->cov.xx, -6), kt_json_num(j, NULL, b->cov.xy, -6), kt_json_num(j, NULL, b->cov.yy, -6);
+    kt_json_end(j);
+    kt_json_end(j);
+}
+
+static void json_band(kt_json *j, const kt_lp_answer *a, const kt_lriplan_opts *o)
+{
+    const kt_lp_bands *b = &a->band;
+    if (!b->on) {
+        kt_json_null(j, "band");
+        return;
     }
-    return n;
+    kt_json_obj(j, "band");
+    kt_json_str(j, "method", "the prediction's double-angle vector as a 2-D normal distribution (mean: the prediction; "
+                             "covariance: the SIA's derivatives along the tissue quantities, the extra term and the "
+                             "non-tissue term (nontissue_cv |SIA|)^2 along the SIA); the "
+                             "magnitude's 5% and 95% quantiles (lri-plan(1), BAND)");
+    kt_json_arr(j, "quantities");
+    for (int q = 0; q < a->run.nq; q++) {
+        kt_json_obj(j, NULL);
+        kt_json_str(j, "name", kt_uq_name(a->run.q[q])), kt_json_num(j, "sd", a->run.sd[q], -6);
+        kt_json_end(j);
+    }
+    kt_json_end(j);
+    kt_json_str(j, "left_out", a->run.left);
+    kt_json_arr(j, "extra_cov_D2");
+    kt_json_num(j, NULL, o->band_extra.xx, -6), kt_json_num(j, NULL, o->band_extra.xy, -6);
+    kt_json_num(j, NULL, o->band_extra.yy, -6);
+    kt_json_end(j);
+    kt_json_num(j, "sia_sd_D", b->sia_sd, 4), kt_json_num(j, "sia_sd_tissue_D", b->sia_sd_tissue, 4);
+    kt_json_num(j, "nontissue_cv", a->scene.s.unc.nontissue_cv, -6);
+    json_band1(j, "predicted_residual", &b->residual);
+    json_band1(j, "post_op_keratometric", &b->post_kerato);
+    json_band1(j, "post_op_total", &b->post_total);
+    kt_json_arr(j, "candidates");
+    for (int i = 0; i < a->fam.n; i++) {
+        if (!a->run.r[i].ran) continue;
+        kt_json_obj(j, NULL);
+        kt_json_str(j, "incisions", a->fam.f[i].name);
+        json_band1(j, "best_residual", &b->best[i]);
+        kt_json_end(j);
+    }
+    kt_json_end(j);
+    kt_json_end(j);
 }
 
-void kt_lri_post(const kt_lri_answer *a, kt_astig *kerato, kt_astig *total)
+static void json_halves(kt_json *j, const kt_lp_eye *y)
 {
-    const kt_lri_family *f = &a->fam[a->chosen];
-    *kerato = add(f->kerato[f->best], a->main_vec);
-    *total = add(f->total[f->best], a->main_vec);
+    if (!y->halves_ok) return;
+    kt_json_obj(j, "halves");
+    kt_json_num(j, "k_at_axis_D", y->halves.k_a, 3), kt_json_num(j, "k_opposite_D", y->halves.k_b, 3);
+    kt_json_num(j, "k_flat_D", y->halves.k_flat, 3), kt_json_num(j, "astig_at_axis_D", y->half_a, 3);
+    kt_json_num(j, "astig_opposite_D", y->half_b, 3), kt_json_num(j, "steeper_half_deg", y->steep_half, 1);
+    kt_json_num(j, "ratio", y->ratio, 4), kt_json_int(j, "cells", y->halves.npts);
+    kt_json_end(j);
 }
 
-int kt_lri_write_json(const kt_lri_answer *a, const kt_lriplan_opts *o, const char *report, const char *path, kt_err *e)
+/* dsia: {quantity: [d SIA_x, d SIA_y]} per unit of each band quantity, the SIA from the intact
+ * eye as a double-angle vector (|SIA| cos 2a, |SIA| sin 2a). */
+static void json_dsia(kt_json *j, const kt_lp_answer *a, const double (*d)[2])
 {
-    const kt_patient *p = &a->p;
-    const kt_lri_family *f = &a->fam[a->chosen];
-    double arc = f->arc[f->best];
+    kt_json_obj(j, "dsia");
+    for (int q = 0; q < a->run.nq; q++) {
+        kt_json_arr(j, kt_uq_name(a->run.q[q]));
+        kt_json_num(j, NULL, d[q][0], 6), kt_json_num(j, NULL, d[q][1], 6);
+        kt_json_end(j);
+    }
+    kt_json_end(j);
+}
+
+/* One candidate family: its best, its trimming, its solver, its curve. */
+static void json_candidate(kt_json *j, const kt_lp_answer *a, int i)
+{
+    const kt_lp_family *f = &a->fam.f[i];
+    const kt_lp_run *r = &a->run.r[i];
+    int b = a->choice.best[i];
+    kt_json_obj(j, NULL);
+    kt_json_str(j, "incisions", f->name), kt_json_num(j, "meridian_deg", a->trim.t[i].meridian, 2);
+    kt_json_num(j, "ratio", f->ratio, 4);
+    kt_json_bool(j, "run", r->ran), kt_json_bool(j, "moved", a->trim.t[i].moved);
+    kt_json_str(j, "trimmed", a->trim.t[i].why);
+    kt_json_num(j, "max_arc_deg", r->ran ? r->arc[r->nstep] : 0, 1);
+    kt_json_str(j, "method", r->ran ? kt_aug_method_name(r->method) : "");
+    if (r->fallback[0]) kt_json_str(j, "fallback", r->fallback);
+    else kt_json_null(j, "fallback");
+    kt_json_num(j, "best_arc_deg", r->arc[b], 1), kt_json_num(j, "best_arc_opposite_deg", r->arc_opp[b], 1);
+    jastig(j, "best_residual", a->choice.pred[i][b], 3);
+    kt_json_arr(j, "curve");
+    for (int k = 0; r->ran && k <= r->nstep; k++) {
+        kt_json_obj(j, NULL);
+        kt_json_num(j, "arc_deg", r->arc[k], 1), kt_json_num(j, "arc_opposite_deg", r->arc_opp[k], 2);
+        jastig(j, "residual", a->choice.pred[i][k], 4);
+        jastig_to(j, "keratometric", r->kerato[k], 4, 3);
+        jastig_to(j, "total", r->total[k], 4, 3);
+        kt_json_num(j, "sia_D", kt_lp_sia(r, k), 4);
+        jastig_to(j, "sia_intact", kt_lp_astig_sub(r->kerato[k], r->kerato_intact), 5, 3);
+        json_dsia(j, a, r->dsia[k]);
+        kt_json_end(j);
+    }
+    kt_json_end(j);
+    kt_json_end(j);
+}
+
+static void json_provenance(kt_json *j, const kt_lp_answer *a, const kt_lriplan_opts *o, const kt_lri_files *fl)
+{
+    char hash[32];
+    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)a->mesh.hash);
+    kt_json_obj(j, "provenance");
+    kt_json_str(j, "scene", "scene.yaml"), kt_json_str(j, "mesh", "eye.msh"), kt_json_str(j, "mesh_hash", hash);
+    kt_json_int(j, "mesh_nodes", a->mesh.m.nn), kt_json_bool(j, "fast", o->fast), kt_json_num(j, "step_deg", o->step, -6);
+    kt_json_num(j, "mesh_seconds", a->mesh.seconds, 1), kt_json_num(j, "solve_seconds", a->run.solve_seconds, 1);
+    kt_json_obj(j, "cpu_seconds");
+    kt_json_num(j, "mesh", a->mesh.cpu, 1), kt_json_num(j, "physics", a->run.cpu_physics, 1);
+    double cut = 0, solve = 0, read = 0, out = 0;
+    for (int i = 0; i < a->fam.n; i++)
+        cut += a->run.r[i].cpu_cut, solve += a->run.r[i].cpu_solve, read += a->run.r[i].cpu_read, out += a->run.r[i].cpu_sink;
+    kt_json_num(j, "cut", cut, 1), kt_json_num(j, "solve", solve, 1), kt_json_num(j, "read", read, 1);
+    kt_json_num(j, "step_files", out, 1);
+    kt_json_end(j);
+    kt_json_str(j, "date", fl->date), kt_json_str(j, "view", kt_lri_view_name(o->view));
+    kt_json_str(j, "plan_html", "plan.html");
+    kt_json_str(j, "run", fl->run ? fl->run : ""), kt_json_str(j, "report", fl->report ? fl->report : "");
+    kt_json_end(j);
+}
+
+int kt_lri_write_json(const kt_lp_answer *a, const kt_lriplan_opts *o, const kt_lri_files *fl, const char *path, kt_err *e)
+{
+    const kt_patient *p = &a->eye.p;
     kt_out out;
     if (kt_out_open(&out, path, e)) return e->code;
-    FILE *j = out.f;
-    fprintf(j, "{\n  \"tool\": \"lri-plan\", \"version\": \"%s\",\n", KT_VERSION);
-    fprintf(j, "  \"patient\": {\"file\": \"%s\", \"name\": \"%s\", \"eye\": \"%s\", \"age\": %g, \"iop_mmHg\": %.2f,\n",
-            p->path, p->name, p->eye == KT_EYE_OS ? "OS" : "OD", p->age, p->iop / 133.322387415e-6);
-    fprintf(j, "    \"anterior\": {\"source\": \"%s\", \"k_steep_D\": %.3f, \"k_flat_D\": %.3f, \"steep_axis_deg\": %.2f, "
-               "\"r_steep_mm\": %.4f, \"r_flat_mm\": %.4f},\n",
-            a->fitted ? "pentacam" : "keratometry", kt_patient_k(p->ant.r_steep), kt_patient_k(p->ant.r_flat), p->ant.axis,
-            p->ant.r_steep, p->ant.r_flat);
-    fprintf(j, "    \"posterior\": {\"source\": \"%s\", \"k_steep_D\": %.3f, \"k_flat_D\": %.3f, \"steep_axis_deg\": %.2f},\n",
-            p->post.source == KT_SOURCE_DEFAULT ? "population default (Koch et al. 2012)"
-            : p->post.source == KT_SOURCE_PENTACAM ? "pentacam" : "keratometry",
-            kt_patient_post_k(p->post.r_steep), kt_patient_post_k(p->post.r_flat), p->post.axis);
-    fprintf(j, "    \"central_thickness_um\": %.1f, \"thickness_at_zone_um\": %.1f, \"white_to_white_mm\": %.2f},\n",
-            1000 * p->t_central, 1000 * a->t_zone, p->wtw);
-    if (a->fitted) {
-        fprintf(j, "  \"fit\": {\"zone_mm\": %g, \"anterior\": {\"r_steep_mm\": %.5f, \"r_flat_mm\": %.5f, \"axis_deg\": %.3f, "
-                   "\"Q\": %.4f, \"rms_um\": %.3f, \"max_um\": %.3f, \"cells\": %d}",
-                a->fit_ant.zone, a->fit_ant.r_steep, a->fit_ant.r_flat, a->fit_ant.axis, a->fit_ant.conic, 1000 * a->fit_ant.rms,
-                1000 * a->fit_ant.max_resid, a->fit_ant.npts);
-        if (a->fit_post_ok)
-            fprintf(j, ",\n    \"posterior\": {\"r_steep_mm\": %.5f, \"r_flat_mm\": %.5f, \"axis_deg\": %.3f, \"Q\": %.4f, "
-                       "\"rms_um\": %.3f, \"max_um\": %.3f, \"cells\": %d}",
-                    a->fit_post.r_steep, a->fit_post.r_flat, a->fit_post.axis, a->fit_post.conic, 1000 * a->fit_post.rms,
-                    1000 * a->fit_post.max_resid, a->fit_post.npts);
-        if (a->fit_pachy_ok)
-            fprintf(j, ",\n    \"pachymetry\": {\"t0_um\": %.2f, \"t2_um_per_mm2\": %.4f, \"t4_um_per_mm4\": %.5f, \"r_max_mm\": %g, "
-                       "\"rms_um\": %.3f, \"max_um\": %.3f, \"cells\": %d}",
-                    1000 * a->fit_pachy.t0, 1000 * a->fit_pachy.t2, 1000 * a->fit_pachy.t4, a->fit_pachy.r_max,
-                    1000 * a->fit_pachy.rms, 1000 * a->fit_pachy.max_resid, a->fit_pachy.npts);
-        fprintf(j, "},\n");
-    }
-    fprintf(j, "  \"main_incision\": {\"present\": %s, \"meridian_deg\": %.1f, \"width_mm\": %.2f, \"kind\": \"%s\", "
-               "\"sia\": \"%s\", \"sia_added_D\": %.3f, \"sia_axis_deg\": %.1f, \"simulated_steps\": %d, "
-               "\"simulated_sia_keratometric_D\": %.4f, \"simulated_sia_keratometric_axis_deg\": %.1f, "
-               "\"simulated_sia_total_D\": %.4f, \"simulated_sia_total_axis_deg\": %.1f},\n",
-            p->main_present ? "true" : "false", p->main_meridian, p->main_width,
-            p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear_corneal",
-            !p->main_present ? "none" : p->main_simulate ? "simulated (a tunnel cut before the arcs)" : "surgeon's vector",
-            a->main_vec.mag, a->main_vec.axis, a->main_steps, a->main_sia_kerato.mag, a->main_sia_kerato.axis,
-            a->main_sia_total.mag, a->main_sia_total.axis);
-    fprintf(j, "  \"target\": {\"astigmatism\": \"%s\", \"residual_D\": %.2f},\n",
-            p->target_kind == KT_TARGET_TOTAL ? "total_corneal" : "keratometric", p->target_residual);
-    fprintf(j, "  \"pre_op\": {\"keratometric_D\": %.3f, \"keratometric_axis_deg\": %.1f, \"total_D\": %.3f, \"total_axis_deg\": %.1f},\n",
-            a->pre_kerato.mag, a->pre_kerato.axis, a->pre_total.mag, a->pre_total.axis);
-    kt_lri_arc arcs[2];
-    int narc = kt_lri_arcs(a, arcs);
-    kt_astig kpost, tpost;
-    kt_lri_post(a, &kpost, &tpost);
-    fprintf(j, "  \"plan\": {\"incisions\": \"%s\", \"arc_deg\": %.1f, \"arc_opposite_deg\": %.1f, \"centre_deg\": %.2f, "
-               "\"from_deg\": %.1f, \"to_deg\": %.1f, \"from_clock\": \"%s\", \"to_clock\": \"%s\", \"chord_mm\": %.2f, "
-               "\"zone_mm\": %.2f, \"blade_um\": %.0f,\n",
-            f->name, arc, f->arc_opp[f->best], narc ? arcs[0].centre : f->meridian, narc ? arcs[0].from : f->meridian,
-            narc ? arcs[0].to : f->meridian, narc ? arcs[0].from_clock : "", narc ? arcs[0].to_clock : "",
-            narc ? arcs[0].chord : 0.0, p->zone, 1000 * a->blade);
-    fprintf(j, "    \"arcs\": [");
-    for (int i = 0; i < narc; i++)
-        fprintf(j, "%s{\"centre_deg\": %.2f, \"arc_deg\": %.1f, \"from_deg\": %.1f, \"to_deg\": %.1f, \"from_clock\": \"%s\", "
-                   "\"to_clock\": \"%s\", \"chord_mm\": %.2f}",
-                i ? ", " : "", arcs[i].centre, arcs[i].arc, arcs[i].from, arcs[i].to, arcs[i].from_clock, arcs[i].to_clock,
-                arcs[i].chord);
-    fprintf(j, "],\n");
-    fprintf(j, "    \"predicted_residual_D\": %.3f, \"predicted_residual_axis_deg\": %.1f, \"reached\": %s,\n", f->pred[f->best].mag,
-            f->pred[f->best].axis, f->pred[f->best].mag <= p->target_residual ? "true" : "false");
-    fprintf(j, "    \"post_op_keratometric_D\": %.3f, \"post_op_keratometric_axis_deg\": %.1f, \"post_op_total_D\": %.3f, "
-               "\"post_op_total_axis_deg\": %.1f},\n",
-            kpost.mag, kpost.axis, tpost.mag, tpost.axis);
-    kt_lri_band_json(a, j);
-    if (a->halves_ok)
-        fprintf(j, "  \"halves\": {\"k_at_axis_D\": %.3f, \"k_opposite_D\": %.3f, \"k_flat_D\": %.3f, \"astig_at_axis_D\": %.3f, "
-                   "\"astig_opposite_D\": %.3f, \"steeper_half_deg\": %.1f, \"ratio\": %.4f, \"cells\": %d},\n",
-                a->halves.k_a, a->halves.k_b, a->halves.k_flat, a->half_a, a->half_b, a->steep_half, a->ratio,
-                a->halves.npts);
-    fprintf(j, "  \"candidates\": [");
-    for (int i = 0; i < a->nfam; i++) {
-        const kt_lri_family *c = &a->fam[i];
-        fprintf(j, "%s\n    {\"incisions\": \"%s\", \"meridian_deg\": %.2f, \"ratio\": %.4f, \"best_arc_deg\": %.1f, "
-                   "\"best_arc_opposite_deg\": %.1f, \"best_residual_D\": %.3f, \"best_residual_axis_deg\": %.1f, \"curve\": [",
-                i ? "," : "", c->name, c->meridian, c->ratio, c->arc[c->best], c->arc_opp[c->best], c->pred[c->best].mag,
-                c->pred[c->best].axis);
-        for (int k = 0; k <= c->nstep; k++)
-            fprintf(j, "%s{\"arc_deg\": %.1f, \"arc_opposite_deg\": %.2f, \"residual_D\": %.4f, \"residual_axis_deg\": %.1f, \"keratometric_D\": %.4f, "
-                       "\"total_D\": %.4f, \"sia_D\": %.4f}",
-                    k ? ", " : "", c->arc[k], c->arc_opp[k], c->pred[k].mag, c->pred[k].axis, c->kerato[k].mag, c->total[k].mag,
-                    kt_lri_sia(c, k));
-        fprintf(j, "]}");
-    }
-    fprintf(j, "\n  ],\n  \"provenance\": {\"scene\": \"scene.yaml\", \"mesh\": \"eye.msh\", \"mesh_hash\": \"%016llx\", "
-               "\"mesh_nodes\": %d, \"fast\": %s, \"step_deg\": %g, \"mesh_seconds\": %.1f, \"solve_seconds\": %.1f, "
-               "\"plan_html\": \"plan.html\", \"report\": \"%s\"}\n}\n",
-            (unsigned long long)a->mesh_hash, a->nodes, o->fast ? "true" : "false", o->step, a->mesh_seconds,
-            a->solve_seconds, report ? report : "");
-    if (ferror(j)) {
-        kt_out_abort(&out);
-        return kt_fail(e, KT_ERUN, "%s: write failed", path);
-    }
+    kt_json j;
+    kt_json_begin(&j, out.f, 1);
+    kt_json_obj(&j, NULL);
+    kt_json_str(&j, "tool", "lri-plan"), kt_json_str(&j, "version", KT_VERSION);
+    json_patient(&j, a);
+    json_fit(&j, a);
+    json_main(&j, a);
+    kt_json_obj(&j, "target");
+    kt_json_str(&j, "astigmatism", p->target_kind == KT_TARGET_TOTAL ? "total_corneal" : "keratometric");
+    kt_json_num(&j, "residual_D", p->target_residual, 2);
+    kt_json_end(&j);
+    kt_json_obj(&j, "pre_op");
+    jastig(&j, "keratometric", a->choice.pre_kerato, 3), jastig(&j, "total", a->choice.pre_total, 3);
+    kt_json_obj(&j, "without_main_incision");
+    jastig(&j, "keratometric", a->choice.bare_kerato, 3), jastig(&j, "total", a->choice.bare_total, 3);
+    kt_json_end(&j);
+    kt_json_obj(&j, "with_main_incision");
+    jastig(&j, "keratometric", a->choice.with_kerato, 3), jastig(&j, "total", a->choice.with_total, 3);
+    kt_json_end(&j);
+    kt_json_end(&j);
+    json_plan(&j, a);
+    json_band(&j, a, o);
+    json_halves(&j, &a->eye);
+    kt_json_arr(&j, "fallback");
+    for (int i = 0; i < a->fam.n; i++)
+        if (a->run.r[i].fallback[0]) kt_json_str(&j, NULL, a->run.r[i].fallback);
+    kt_json_end(&j);
+    kt_json_arr(&j, "candidates");
+    for (int i = 0; i < a->fam.n; i++) json_candidate(&j, a, i);
+    kt_json_end(&j);
+    json_provenance(&j, a, o, fl);
+    kt_json_end(&j);
+    if (kt_json_finish(&j, path, e)) return kt_out_abort(&out), e->code;
     return kt_out_commit(&out, e);
 }
 
-void kt_lri_summary(const kt_lri_answer *a, const kt_lriplan_opts *o, FILE *s)
+/* ---------------------------------------------------------------- the summary */
+
+#define AX0(a) kt_lp_axis_shown((a), 0) /* an axis as "%.0f" prints it */
+
+static void summary_cornea(const kt_lp_answer *a, FILE *s)
 {
-    const kt_patient *p = &a->p;
-    const kt_lri_family *f = &a->fam[a->chosen];
-    fprintf(s, "lri-plan: %s, %s, %g y\n", p->name, p->eye == KT_EYE_OS ? "OS (left)" : "OD (right)", p->age);
+    const kt_patient *p = &a->eye.p;
+    const kt_lp_eye *y = &a->eye;
     fprintf(s, "  cornea (%s): K %.2f / %.2f D @ %.0f deg; posterior %.2f / %.2f D @ %.0f deg (%s)\n",
-            a->fitted ? "Pentacam fit" : "keratometry", kt_patient_k(p->ant.r_steep), kt_patient_k(p->ant.r_flat), p->ant.axis,
+            y->fitted ? "Pentacam fit" : "keratometry", kt_patient_k(p->ant.r_steep), kt_patient_k(p->ant.r_flat), p->ant.axis,
             kt_patient_post_k(p->post.r_steep), kt_patient_post_k(p->post.r_flat), p->post.axis,
-            p->post.source == KT_SOURCE_DEFAULT ? "population default" : "measured");
-    if (a->fitted)
-        fprintf(s, "  fit over %g mm: anterior Q %.3f, residual rms %.2f um (max %.2f um, %d cells)%s\n", a->fit_ant.zone,
-                a->fit_ant.conic, 1000 * a->fit_ant.rms, 1000 * a->fit_ant.max_resid, a->fit_ant.npts,
-                a->fit_post_ok ? "" : "; no posterior map");
-    if (a->fitted && a->fit_post_ok)
-        fprintf(s, "               posterior Q %.3f, residual rms %.2f um (max %.2f um, %d cells)\n", a->fit_post.conic,
-                1000 * a->fit_post.rms, 1000 * a->fit_post.max_resid, a->fit_post.npts);
-    if (a->fitted && a->fit_pachy_ok)
-        fprintf(s, "               pachymetry %.0f um central, residual rms %.2f um (max %.2f um)\n", 1000 * a->fit_pachy.t0,
-                1000 * a->fit_pachy.rms, 1000 * a->fit_pachy.max_resid);
+            p->post.source == KT_SOURCE_DEFAULT ? "population default, Eom et al. 2015" : "measured");
+    if (y->fitted)
+        fprintf(s, "  fit over %g mm: anterior Q %.3f, residual rms %.2f um (max %.2f um, %d cells)%s\n", y->fit_ant.zone,
+                y->fit_ant.conic, 1000 * y->fit_ant.rms, 1000 * y->fit_ant.max_resid, y->fit_ant.npts,
+                y->fit_post_ok ? "" : "; no posterior map");
+    if (y->fitted && y->fit_post_ok)
+        fprintf(s, "               posterior Q %.3f, residual rms %.2f um (max %.2f um, %d cells)\n", y->fit_post.conic,
+                1000 * y->fit_post.rms, 1000 * y->fit_post.max_resid, y->fit_post.npts);
+    if (y->fitted && y->fit_pachy_ok)
+        fprintf(s, "               pachymetry %.0f um central, residual rms %.2f um (max %.2f um)\n", 1000 * y->fit_pachy.t0,
+                1000 * y->fit_pachy.rms, 1000 * y->fit_pachy.max_resid);
+    const kt_surffit *ma = &a->scene.mesh_ant, *mp = &a->scene.mesh_post;
+    if (a->scene.measured && ma->dep_order > 0) {
+        fprintf(s, "  mesh: the measured surfaces (Zernike order %d): anterior over %.1f mm, residual rms %.3f um (max %.3f um)",
+                ma->dep_order, 2 * ma->dep_radius, 1000 * ma->dep_rms, 1000 * ma->dep_max);
+        if (mp->dep_order > 0)
+            fprintf(s, "; posterior over %.1f mm, %.3f um (max %.3f um)", 2 * mp->dep_radius, 1000 * mp->dep_rms,
+                    1000 * mp->dep_max);
+        fputc('\n', s);
+    }
     fprintf(s, "  pre-op astigmatism%s: keratometric %.2f D @ %.0f, total corneal %.2f D @ %.0f\n",
-            a->main_vec.mag > 0 ? " (with the main incision's SIA)" : "", a->pre_kerato.mag, a->pre_kerato.axis,
-            a->pre_total.mag, a->pre_total.axis);
+            a->choice.main_vec.mag > 0 ? " (with the main incision's SIA)" : "", a->choice.pre_kerato.mag,
+            AX0(a->choice.pre_kerato.axis), a->choice.pre_total.mag, AX0(a->choice.pre_total.axis));
     if (p->main_present)
         fprintf(s, "  main incision: %g mm %s at %.0f deg: %s\n", p->main_width,
                 p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear corneal", p->main_meridian,
                 p->main_simulate ? "simulated, cut before the arcs" : "surgeon's SIA added");
-    if (a->main_steps)
+    if (a->scene.main_sim)
         fprintf(s, "  main incision's simulated SIA: keratometric %.2f D @ %.0f, total corneal %.2f D @ %.0f\n",
-                a->main_sia_kerato.mag, a->main_sia_kerato.axis, a->main_sia_total.mag, a->main_sia_total.axis);
-    if (a->halves_ok)
-        fprintf(s, "  half-meridians: %.2f D @ %.0f and %.2f D @ %.0f over K flat %.2f D: %s\n", a->half_a, p->ant.axis,
-                a->half_b, fmod(p->ant.axis + 180, 360), a->halves.k_flat,
-                a->ratio < KT_LRIPLAN_SYMMETRIC ? "asymmetric, unequal pairs tried" : "symmetric");
-    fprintf(s, "  candidates (best of each, residual %s):\n", p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric");
-    for (int i = 0; i < a->nfam; i++) {
-        const kt_lri_family *c = &a->fam[i];
+                a->choice.main_sia_kerato.mag, AX0(a->choice.main_sia_kerato.axis), a->choice.main_sia_total.mag,
+                AX0(a->choice.main_sia_total.axis));
+    if (y->halves_ok)
+        fprintf(s, "  half-meridians: %.2f D @ %.0f and %.2f D @ %.0f over K flat %.2f D: %s\n", y->half_a, p->ant.axis,
+                y->half_b, fmod(p->ant.axis + 180, 360), y->halves.k_flat,
+                y->ratio < KT_LP_SYMMETRIC ? "asymmetric, unequal pairs tried" : "symmetric");
+}
+
+static void summary_candidates(const kt_lp_answer *a, FILE *s)
+{
+    fprintf(s, "  candidates (best of each, residual %s):\n", target_name(&a->eye.p));
+    for (int i = 0; i < a->fam.n; i++) {
+        const kt_lp_family *f = &a->fam.f[i];
+        const kt_lp_run *r = &a->run.r[i];
+        if (!r->ran) continue;
+        int b = a->choice.best[i];
         char arcs[48];
-        if (c->unequal) snprintf(arcs, sizeof arcs, "%.0f + %.1f deg", c->arc[c->best], c->arc_opp[c->best]);
-        else snprintf(arcs, sizeof arcs, "%s%.0f deg", c->paired ? "2 x " : "", c->arc[c->best]);
-        fprintf(s, "    %-7s at %3.0f deg: %-16s residual %.2f D @ %3.0f%s\n", c->name, c->meridian, arcs, c->pred[c->best].mag,
-                c->pred[c->best].axis, i == a->chosen ? "  <- chosen" : "");
+        if (f->unequal) snprintf(arcs, sizeof arcs, "%.0f + %.1f deg", r->arc[b], r->arc_opp[b]);
+        else snprintf(arcs, sizeof arcs, "%s%.0f deg", f->paired ? "2 x " : "", r->arc[b]);
+        fprintf(s, "    %-7s at %3.0f deg: %-16s residual %.2f D @ %3.0f%s\n", f->name, a->trim.t[i].meridian, arcs,
+                a->choice.pred[i][b].mag, AX0(a->choice.pred[i][b].axis), i == a->choice.chosen ? "  <- chosen" : "");
+        if (r->fallback[0]) fprintf(s, "      the planned method fell back (%s)\n", r->fallback);
     }
-    for (int k = 0; k < 3; k++)
-        if (a->clear_note[k][0]) fprintf(s, "    (%s)\n", a->clear_note[k]);
-    kt_lri_arc arcs[2];
-    int narc = kt_lri_arcs(a, arcs);
-    if (narc == 0) {
-        fprintf(s, "  answer: no arc (none lowers the %s residual)\n",
-                p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric");
-    } else {
-        fprintf(s, "  answer: %s at the %.1f mm zone, blade %.0f um deep:\n", f->name, p->zone, 1000 * a->blade);
-        for (int i = 0; i < narc; i++)
-            fprintf(s, "    arc %d: %.0f deg centred on %.0f, from %.0f to %.0f deg (%s to %s o'clock), chord %.2f mm\n", i + 1,
-                    arcs[i].arc, arcs[i].centre, arcs[i].from, arcs[i].to, arcs[i].from_clock, arcs[i].to_clock, arcs[i].chord);
-    }
-    kt_astig kpost, tpost;
-    kt_lri_post(a, &kpost, &tpost);
-    fprintf(s, "  post-op: keratometric %.2f D @ %.0f, total corneal %.2f D @ %.0f\n", kpost.mag, kpost.axis, tpost.mag,
-            tpost.axis);
-    fprintf(s, "  predicted %s residual %.2f D @ %.0f: %s the %.2f D target\n",
-            p->target_kind == KT_TARGET_TOTAL ? "total corneal" : "keratometric", f->pred[f->best].mag, f->pred[f->best].axis,
-            f->pred[f->best].mag <= p->target_residual ? "reaches" : "does NOT reach", p->target_residual);
-    kt_lri_band_summary(a, s);
-    fprintf(s, "  written: %s/plan.html, plan.json, report/report.html, scene.yaml, eye.msh, run-*/ (mesh %.0f s, solves %.0f s%s)\n", o->outdir,
-            a->mesh_seconds, a->solve_seconds, o->fast ? ", --fast" : "");
+    for (int i = 0; i < a->fam.n; i++) /* the clearance's trimming (lri-plan(1), CLEARANCE) */
+        if (a->trim.t[i].why[0]) fprintf(s, "    (%s)\n", a->trim.t[i].why);
+}
+
+static void summary_band(const kt_lp_answer *a, FILE *s)
+{
+    const kt_lp_bands *b = &a->band;
+    if (!b->on) return;
+    fprintf(s, "  band (2-D, tissue quantities): residual 90%% %.2f-%.2f D (SIA sd %.2f D); post-op keratometric 90%% "
+               "%.2f-%.2f D, total corneal %.2f-%.2f D\n",
+            b->residual.lo, b->residual.hi, b->sia_sd, b->post_kerato.lo, b->post_kerato.hi, b->post_total.lo,
+            b->post_total.hi);
+    if (a->run.left[0]) fprintf(s, "    left out of the band (no derivative): %s\n", a->run.left);
+}
+
+void kt_lri_summary(const kt_lp_answer *a, const kt_lriplan_opts *o, const kt_lri_files *fl, FILE *s)
+{
+    const kt_patient *p = &a->eye.p;
+    int c = a->choice.chosen, k = a->choice.best[c];
+    fprintf(s, "lri-plan: %s, %s, %g y\n", p->name, p->eye == KT_EYE_OS ? "OS (left)" : "OD (right)", p->age);
+    summary_cornea(a, s);
+    summary_candidates(a, s);
+    kt_lp_arc arcs[2];
+    int narc = kt_lp_arcs(a, arcs);
+    if (narc == 0) fprintf(s, "  answer: no arc (none lowers the %s residual)\n", target_name(p));
+    else fprintf(s, "  answer: %s at the %.1f mm zone, blade %.0f um deep:\n", a->fam.f[c].name, p->zone, 1000 * a->eye.blade);
+    for (int i = 0; i < narc; i++)
+        fprintf(s, "    arc %d: %.0f deg centred on %.0f, from %.0f to %.0f deg clockwise (%s to %s o'clock), chord %.2f mm\n", i + 1,
+                arcs[i].arc, arcs[i].centre, arcs[i].from, arcs[i].to, arcs[i].from_clock, arcs[i].to_clock, arcs[i].chord);
+    kt_astig kp, tp;
+    kt_lp_post(a, &kp, &tp);
+    fprintf(s, "  post-op: keratometric %.2f D @ %.0f, total corneal %.2f D @ %.0f\n", kp.mag, AX0(kp.axis), tp.mag, AX0(tp.axis));
+    const kt_astig *r = &a->choice.pred[c][k];
+    fprintf(s, "  predicted %s residual %.2f D @ %.0f: %s the %.2f D target\n", target_name(p), r->mag, AX0(r->axis),
+            r->mag <= p->target_residual ? "reaches" : "does NOT reach", p->target_residual);
+    summary_band(a, s);
+    fprintf(s, "  written: %s/plan.html, plan.json%s%s, scene.yaml, eye.msh (mesh %.0f s, solves %.0f s%s)\n", o->outdir,
+            fl->report ? ", " : "", fl->report ? fl->report : "", a->mesh.seconds, a->run.solve_seconds,
+            o->fast ? ", --fast" : "");
 }

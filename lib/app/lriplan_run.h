@@ -5,6 +5,7 @@
 
 #include <stdio.h>
 
+#include "lp.h"
 #include "util.h"
 
 typedef struct kt_lriplan_opts {
@@ -16,15 +17,24 @@ typedef struct kt_lriplan_opts {
     int no_band;                /* --no-uncertainty: no first-order band (augsolve without
                                    --uncertainty; lri-plan(1), BAND) */
     int quiet;
+    int view;                   /* --view: how plan.html draws the eye (KT_LRI_VIEW_*,
+                                   lriplan_eye.h; default temporal) */
+    double plan_max_ratio;      /* --plan-max-ratio: the planned factor's limit (augsolve(1)) */
+    int state;                  /* --state: KT_WOUND_HEALED (default) or KT_WOUND_IMMEDIATE */
+    kt_lp_cov band_extra;       /* a covariance added to the band's (non-tissue terms), D^2 in
+                                   double-angle space; zero: none (lri-plan(1), BAND) */
 } kt_lriplan_opts;
 
 void kt_lriplan_opts_default(kt_lriplan_opts *o);
+/* KT_WOUND_* of "healed" or "immediate"; -1 for anything else. */
+int kt_lriplan_state(const char *s);
 
-/* Load and check the patient (fit a Pentacam export), write PLAN_DIR/scene.yaml, mesh it once
- * (eye.msh), cut each allowed family (one arc; a pair) centre-out to the longest arc allowed
- * (plan-<family>.yaml, <family>.edits, run-<family>/ with its curvature tables), pick the arc
- * that minimizes the predicted residual astigmatism, write PLAN_DIR/plan.json and print the
- * one-screen summary on `summary`. Bad input is KT_EINPUT before anything is meshed. */
+/* Plan the patient (lib/planner/lp.h: the scene, one mesh, each allowed family cut centre-out to
+ * the longest arc allowed, solved and read in memory, the arc that minimizes the predicted
+ * residual astigmatism) and write PLAN_DIR: scene.yaml and eye.msh (the patient's scene and
+ * mesh), run/ (the chosen family's step files up to the chosen step), report/ (its teaching
+ * report), plan.json, plan.html; the one-screen summary on `summary` (NULL: none). Bad input is
+ * KT_EINPUT before anything is meshed. */
 int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e);
 
 #endif

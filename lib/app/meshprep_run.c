@@ -16,20 +16,6 @@
 
 /* ---- the run --------------------------------------------------------------------------------- */
 
-/* Everything the scene's solvers will look up must be in the mesh. */
-static int check_scene_on_mesh(const kt_scene *s, const kt_mesh *m, unsigned char *fixed, kt_err *e)
-{
-    for (int i = 0; i < s->npressure; i++)
-        if (!kt_mesh_find_group(m, 2, s->pressure[i].surface))
-            return kt_fail(e, KT_EINPUT, "%s: loads.pressure: expected surface '%s' in the mesh", s->path,
-                           s->pressure[i].surface);
-    kt_fem_problem p;
-    if (kt_fem_bind(s, m, &p, e)) return e->code;
-    memcpy(fixed, p.fixed, 3 * (size_t)m->nn);
-    kt_fem_problem_free(&p);
-    return KT_OK;
-}
-
 static const char *model_name(int model)
 {
     static const char *N[] = {"?", "eye", "box", "surface", "image"};
@@ -250,7 +236,7 @@ static int run_mesh(const kt_prep_opts *o, const kt_scene *s, run_info *r, kt_me
     unsigned char *fixed = kt_calloc(3 * (size_t)m->nn, 1, e);
     int *set = NULL, *rank = NULL, *sector = NULL, *perm = kt_calloc((size_t)m->nn, sizeof(int), e);
     char label[160];
-    if (!fixed || !perm || check_scene_on_mesh(s, m, fixed, e) || unload(o, s, r, m, e))
+    if (!fixed || !perm || kt_fem_check_scene(s, m, fixed, e) || unload(o, s, r, m, e))
         goto done;
     kt_mesh_quality(m, &r->q);
     if (kt_orderset_nodes(s, m, &set, &r->nset, label, e) ||

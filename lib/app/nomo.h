@@ -6,6 +6,8 @@
 #define KT_NOMO_H
 
 #include "util.h"
+#include "units.h"
+#include "patient.h"
 
 /* One simulated case: one arc of one run of the study. */
 typedef struct kt_nomo_case {
@@ -30,10 +32,15 @@ typedef struct kt_nomo {
     int n;
 } kt_nomo;
 
-/* Plausible inputs (lri-nomogram(1)): keratometry readings in [30, 70] D (normal corneas 40-48 D,
- * keratoconus into the 60s), a cylinder to correct in (0, 10] D (LRIs treat up to about 3 D). */
-#define KT_NOMO_K_MIN 30.0
-#define KT_NOMO_K_MAX 70.0
+/* Plausible inputs (lri-nomogram(1)): what lri-plan's patient file accepts (keratome-patient(5),
+ * lib/model/patient.h: keratometry in [20, 70] D, an age in [18, 110] y, an SIA in [0, 5] D, an
+ * axis in [0, 180] deg with 180 read as 0), a cylinder to correct in (0, 10] D (LRIs treat up
+ * to about 3 D). */
+#define KT_NOMO_K_MIN KT_PATIENT_K_MIN
+#define KT_NOMO_K_MAX KT_PATIENT_K_MAX
+#define KT_NOMO_AGE_MIN KT_PATIENT_AGE_MIN
+#define KT_NOMO_AGE_MAX KT_PATIENT_AGE_MAX
+#define KT_NOMO_SIA_MAX KT_PATIENT_SIA_MAX
 #define KT_NOMO_CYL_MAX 10.0
 /* The cylinder LRIs treat: about 0.5 to 3.0 D, the range of the LRI nomograms (Nichamin 2006,
  * docs/references.md [7]); outside it lri-nomogram answers with a warning on stderr. */
@@ -44,7 +51,7 @@ typedef struct kt_nomo {
 
 /* The two-sided 90% quantile of the standard normal distribution (the band's interval, as
  * curvature's: optics/curv_band.h). */
-#define KT_NOMO_Z90 1.6448536269514722
+#define KT_NOMO_Z90 KT_Z90
 /* A residual below this (D; the answer prints 0.01 D) has no direction of its own for the band:
  * its derivative is then taken along the pre-operative astigmatism (lri-nomogram(1), BAND). */
 #define KT_NOMO_RES_DIR 0.005
@@ -71,7 +78,8 @@ typedef struct kt_nomo_query {
     double age;                   /* years */
     double target;                /* the cylinder to correct, D */
     double depth, diameter;
-    double main_sia, main_axis;   /* the main incision's SIA vector, D and deg (0: none): it is
+    double main_sia, main_axis;   /* the main incision's SIA vector, D and deg (0: none; the axis of
+                                     the induced steepening, as lri-plan's sia): it is
                                      added to the keratometric astigmatism by double-angle sum,
                                      and the arcs correct the sum (centred on its steep axis) */
 } kt_nomo_query;

@@ -40,6 +40,9 @@ void *kt_huge_realloc(void *p, size_t size);
 
 /* Monotonic wall-clock seconds. */
 double kt_now(void);
+/* The process's CPU seconds so far (user + system, every thread): what a phase costs on a shared
+ * machine, where its wall seconds are the load's; NAN when the system cannot say. */
+double kt_cpu_now(void);
 
 /* Progress on stderr: a bar on a TTY, a plain line every 10% otherwise, nothing when quiet. */
 typedef struct kt_progress {

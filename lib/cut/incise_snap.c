@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "eye.h"
 #include "predicates.h"
 
 
@@ -183,26 +184,34 @@ static double plane_proj(const void *s, const double *x, double *y)
     return fabs(d);
 }
 
+/* The elliptic cylinder x^2 + (sy y)^2 = r^2 about the z axis: sy = 1 the circle of radius r;
+ * on an oval cornea r / sy is the incision's vertical radius (kt_eye_oval_radius). */
 typedef struct cylinder {
-    double r;
+    double r, sy;
 } cylinder;
 
 static int cylinder_side(const void *s, const double *const *x)
 {
-    return kt_pred_cylinder_side(((const cylinder *)s)->r, x, 4);
+    const cylinder *cy = s;
+    if (cy->sy == 1) return kt_pred_cylinder_side(cy->r, x, 4);
+    double p[4][3];
+    const double *q[4];
+    for (int k = 0; k < 4; k++) p[k][0] = x[k][0], p[k][1] = cy->sy * x[k][1], p[k][2] = x[k][2], q[k] = p[k];
+    return kt_pred_cylinder_side(cy->r, q, 4);
 }
 
 static double cylinder_proj(const void *s, const double *x, double *y)
 {
-    double R = ((const cylinder *)s)->r, r = hypot(x[0], x[1]);
+    const cylinder *cy = s;
+    double R = cy->r, r = hypot(x[0], x[1]), re = cy->sy == 1 ? r : hypot(x[0], cy->sy * x[1]);
     y[2] = x[2];
     if (r == 0) {
         y[0] = x[0], y[1] = x[1];
         return 0;
     }
-    y[0] = x[0] * (R / r);
-    y[1] = x[1] * (R / r);
-    return fabs(r - R);
+    y[0] = x[0] * (R / re);
+    y[1] = x[1] * (R / re);
+    return cy->sy == 1 ? fabs(r - R) : fabs(r - r * (R / re));
 }
 
 /* The vertex of face slot k (0..2). */
@@ -506,7 +515,13 @@ int kt_incise_cylinder_phase(kt_incise *c, const kt_incision *inc, int index, kt
                              kt_err *e)
 {
     kt_incise_arc_phase(inc, index, ph);
-    cylinder surf = {0.5 * inc->diameter};
+    cylinder surf = {0.5 * inc->diameter, 1};
+    /* on an oval cornea the incision's circle is the ellipse through the oval's horizontal and
+     * vertical radii at its diameter (keratome-plan(5), INCISIONS) */
+    if (c->plan && c->plan->scene.model == KT_MODEL_EYE) {
+        double b = kt_eye_oval_radius(&c->plan->scene.eye, inc->diameter, 90);
+        if (b > 0 && b < surf.r) surf.sy = surf.r / b;
+    }
     signed char *cls = classify(c, cylinder_side, &surf, e);
     if (!cls || interface(c, cls, ph, e) || select_arc_faces(c, inc, ph, e)) goto done;
     if (ph->nface == 0) {

@@ -115,3 +115,16 @@ int kt_fem_problem_loads(const kt_fem_problem *p, const kt_mesh *m, double scale
         if (kt_fem_pressure(m, p->press[i].tag, scale * p->press[i].p, f, e)) return e->code;
     return KT_OK;
 }
+
+int kt_fem_check_scene(const kt_scene *s, const kt_mesh *m, unsigned char *fixed, kt_err *e)
+{
+    for (int i = 0; i < s->npressure; i++)
+        if (!kt_mesh_find_group(m, 2, s->pressure[i].surface))
+            return kt_fail(e, KT_EINPUT, "%s: loads.pressure: expected surface '%s' in the mesh", s->path,
+                           s->pressure[i].surface);
+    kt_fem_problem p;
+    if (kt_fem_bind(s, m, &p, e)) return e->code;
+    if (fixed) memcpy(fixed, p.fixed, 3 * (size_t)m->nn);
+    kt_fem_problem_free(&p);
+    return KT_OK;
+}

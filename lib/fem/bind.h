@@ -41,6 +41,11 @@ typedef struct kt_fem_problem {
 int kt_fem_bind(const kt_scene *s, const kt_mesh *m, kt_fem_problem *p, kt_err *e);
 void kt_fem_problem_free(kt_fem_problem *p);
 
+/* Everything scene s's solvers will look up is in mesh m: each loads.pressure surface, and what
+ * kt_fem_bind needs (KT_EINPUT naming the scene otherwise). fixed (NULL: not wanted) := the
+ * bound problem's 3 nn fixed-DOF flags. */
+int kt_fem_check_scene(const kt_scene *s, const kt_mesh *m, unsigned char *fixed, kt_err *e);
+
 /* The Dirichlet part alone: fixed[dof] = 1 and (g not NULL) g[dof] = value for every DOF a
  * scene fixation holds; other entries are left alone. fix (s->nfix entries, may be NULL)
  * receives the fixation surfaces by tag. A surface missing from the mesh is KT_EINPUT. */

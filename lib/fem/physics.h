@@ -1,4 +1,4 @@
-/* physics.h: the per-tet physics of a scene on its mesh (keratome-scene(5), MECHANICS): the
+/* physics.h: the per-tet physics of a scene on its mesh (keratome-scene(5), MATERIALS, LOADS): the
  * lamellar (fibre) material in its local frames, and, for loads.reference prestressed, the
  * tangent stiffness of the pressurized measured geometry: the prestress of the loads (stress
  * stiffness, and its release across cut faces) and the follower pressure's load stiffness. */

@@ -2,6 +2,7 @@
  * quantities apply, dC per tet, the prestress's derivatives from the prestress solve's own
  * factorization, the derivative loads, and a step's derivatives from scratch. */
 #include "sens.h"
+#include "units.h"
 #include "wound.h"
 
 #include <math.h>
@@ -10,8 +11,6 @@
 
 #include "chol.h"
 #include "fem_int.h"
-
-#define MMHG_MPA 133.322387415e-6 /* MPa per mmHg */
 
 static const kt_region_mat *first_fibre(const kt_scene *s)
 {
@@ -49,7 +48,7 @@ void kt_fem_sens_plan(const kt_scene *s, const kt_fem_problem *fp, kt_fem_sens *
     S->npress = fp->npress;
     for (int k = 0; k < fp->npress; k++) S->ptag[k] = fp->press[k].tag;
     if (fp->npress && fp->press[0].p != 0) {
-        S->value[KT_UQ_IOP] = fp->press[0].p / MMHG_MPA;
+        S->value[KT_UQ_IOP] = fp->press[0].p / KT_MMHG_MPA;
         S->method[KT_UQ_IOP] = KT_SENS_DERIVATIVE;
     }
     if (eye) {
@@ -332,7 +331,7 @@ void kt_fem_sens_pressures(const kt_fem_problem *fp, kt_fem_sens *S)
     for (int k = 0; k < S->nd; k++) {
         kt_fem_dparam *d = &S->d[k];
         if (d->q != KT_UQ_IOP) continue;
-        for (int i = 0; i < fp->npress; i++) d->dpress[i] = fp->press[i].p / fp->press[0].p * MMHG_MPA;
+        for (int i = 0; i < fp->npress; i++) d->dpress[i] = fp->press[i].p / fp->press[0].p * KT_MMHG_MPA;
     }
 }
 

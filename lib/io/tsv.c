@@ -168,3 +168,60 @@ int kt_tsv_int(kt_tsv *t, int col, long long lo, long long hi, long long *v)
     *v = x;
     return KT_OK;
 }
+
+/* ---------------------------------------------------------------- the writer */
+
+void kt_tsvw_begin(kt_tsvw *w, FILE *f)
+{
+    memset(w, 0, sizeof *w);
+    w->f = f;
+    w->ncol = -1;
+}
+
+static void sep(kt_tsvw *w)
+{
+    if (w->col++ > 0) fputc('\t', w->f);
+}
+
+static void misuse(kt_tsvw *w, const char *why)
+{
+    if (!w->bad) snprintf(w->why, sizeof w->why, "%s", why);
+    w->bad = 1;
+}
+
+void kt_tsvw_text(kt_tsvw *w, const char *s)
+{
+    sep(w);
+    if (strpbrk(s, "\t\n\r")) misuse(w, "a field with a tab or a line end");
+    fputs(s, w->f);
+}
+
+void kt_tsvw_num(kt_tsvw *w, double v, const char *fmt)
+{
+    sep(w);
+    if (isnan(v)) fputs("NaN", w->f);
+    else if (isinf(v)) fputs(v > 0 ? "inf" : "-inf", w->f);
+    else fprintf(w->f, fmt, v);
+}
+
+void kt_tsvw_int(kt_tsvw *w, long long v)
+{
+    sep(w);
+    fprintf(w->f, "%lld", v);
+}
+
+void kt_tsvw_end(kt_tsvw *w)
+{
+    fputc('\n', w->f);
+    if (w->ncol < 0) w->ncol = w->col;
+    else if (w->col != w->ncol) misuse(w, "a row without the header's count of fields");
+    w->col = 0;
+}
+
+int kt_tsvw_finish(kt_tsvw *w, const char *what, kt_err *e)
+{
+    if (w->col != 0) misuse(w, "a line not ended");
+    if (w->bad) return kt_fail(e, KT_ERUN, "%s: the table writer was misused: %s", what, w->why);
+    if (ferror(w->f)) return kt_fail(e, KT_ERUN, "%s: write failed", what);
+    return KT_OK;
+}

@@ -1,4 +1,5 @@
-/* tsv.h: the tab-separated tables the tools write and read back (curvature.tsv, steps.tsv,
+/* tsv.h: the tab-separated tables the tools write and read back (the reader, and below it the
+ * writer) (curvature.tsv, steps.tsv,
  * derivatives.tsv, uncertainty.tsv, the --sens file, the benchmarks' step tables): a header line
  * naming the columns, then a row a line, fields split at tabs. The whole file is read (at most
  * KT_TSV_MAX_BYTES), so a line of any length is read whole; a line ending "\r\n" reads as one
@@ -16,6 +17,8 @@
  */
 #ifndef KT_TSV_H
 #define KT_TSV_H
+
+#include <stdio.h>
 
 #include "cursor.h"
 
@@ -66,5 +69,34 @@ int kt_tsv_int(kt_tsv *t, int col, long long lo, long long hi, long long *v);
 /* A caller's own error at the current row's field col (-1: the line's start): KT_EINPUT
  * "file:L:C: msg". Returns KT_EINPUT. */
 int kt_tsv_fail(kt_tsv *t, int col, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+/* ---- the writer: the one writer of those tables ----
+ *
+ *     kt_tsvw w;
+ *     kt_tsvw_begin(&w, f);
+ *     kt_tsvw_text(&w, "step"), kt_tsvw_text(&w, "cyl_D"), kt_tsvw_end(&w);      (the header)
+ *     kt_tsvw_int(&w, 3), kt_tsvw_num(&w, cyl, "%.4f"), kt_tsvw_end(&w);         (a row)
+ *     return kt_tsvw_finish(&w, path, e);
+ *
+ * A number is written with the caller's printf format; a NaN as "NaN" and the infinities as
+ * "inf" and "-inf", what kt_tsv_num reads back with KT_TSV_NAN | KT_TSV_INF. A text field with
+ * a tab or a line end would split the table: it is a misuse. Every row has the header's count
+ * of fields (the first line ended is the header). A misuse is KT_ERUN at kt_tsvw_finish, so is
+ * a failed write. */
+typedef struct kt_tsvw {
+    FILE *f;
+    int ncol;             /* the header's fields (-1 until it is ended) */
+    int col;              /* fields of the line being written */
+    int bad;              /* a misuse: what */
+    char why[96];
+} kt_tsvw;
+
+void kt_tsvw_begin(kt_tsvw *w, FILE *f);
+void kt_tsvw_text(kt_tsvw *w, const char *s);
+void kt_tsvw_num(kt_tsvw *w, double v, const char *fmt);
+void kt_tsvw_int(kt_tsvw *w, long long v);
+/* End the line (the header, or a row). */
+void kt_tsvw_end(kt_tsvw *w);
+int kt_tsvw_finish(kt_tsvw *w, const char *what, kt_err *e);
 
 #endif

@@ -1,5 +1,6 @@
 /* yml.c: libyaml document loading and strict typed access with file:line:col errors. */
 #include "yml.h"
+#include "units.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -33,7 +34,7 @@ static const unit UNITS[] = {
     {KT_UNIT_PRESSURE, "N/mm2", 1.0},
     {KT_UNIT_PRESSURE, "N/mm^2", 1.0},
     /* 1 mmHg = 133.322387415 Pa (conventional millimetre of mercury). */
-    {KT_UNIT_PRESSURE, "mmHg", 133.322387415e-6},
+    {KT_UNIT_PRESSURE, "mmHg", KT_MMHG_MPA},
     {KT_UNIT_ANGLE, "deg", 1.0},
     {KT_UNIT_ANGLE, "rad", 57.295779513082320876798},
     {KT_UNIT_FORCE, "N", 1.0},
@@ -581,4 +582,27 @@ int kt_yml_key_quantity(kt_yml *y, const yaml_node_t *map, const char *what, con
     yaml_node_t *n = kt_yml_get(y, map, key);
     char f[256];
     return n ? kt_yml_quantity(y, n, field(f, sizeof f, what, key), dim, b, v, e) : KT_OK;
+}
+
+void kt_yml_put_quoted(FILE *f, const char *v)
+{
+    fputc('"', f);
+    for (const unsigned char *p = (const unsigned char *)v; *p; p++) {
+        if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p);
+        else if (*p == '\n') fputs("\\n", f);
+        else if (*p == '\t') fputs("\\t", f);
+        else if (*p < 0x20 || *p == 0x7f) fprintf(f, "\\x%02x", *p);
+        else fputc(*p, f);
+    }
+    fputc('"', f);
+}
+
+void kt_yml_put_comment(FILE *f, const char *s)
+{
+    fputs("# ", f);
+    for (; *s; s++) {
+        if (*s == '\n') fputs("\n# ", f);
+        else fputc((unsigned char)*s < 0x20 || *s == 0x7f ? ' ' : *s, f);
+    }
+    fputc('\n', f);
 }

@@ -6,6 +6,7 @@
 #ifndef KT_YML_H
 #define KT_YML_H
 
+#include <stdio.h>
 #include <yaml.h>
 
 #include "util.h"
@@ -122,5 +123,12 @@ int kt_yml_parse_quantity(const char *text, int dim, double *v);
 
 /* The internal unit's name for a dimension ("mm", "MPa", ...; "" for KT_UNIT_NONE). */
 const char *kt_yml_unit_name(int dim);
+
+/* Writing YAML (scene_write, plan_write, run.yaml): s as a double-quoted scalar ('"' and '\'
+ * escaped, a line end as \n, a tab as \t, other control bytes as \xNN: paths may hold ':' '#'
+ * or a line end, which a plain scalar cannot); s as a comment, every line of it behind "# "
+ * (other control characters as spaces), so no text ends the comment early. */
+void kt_yml_put_quoted(FILE *f, const char *s);
+void kt_yml_put_comment(FILE *f, const char *s);
 
 #endif

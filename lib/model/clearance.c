@@ -11,7 +11,7 @@
 #define SAMPLE 0.01 /* deg */
 #define RAD (KT_PI / 180)
 
-void kt_wound_of_tunnel(const kt_tunnel *t, const char *name, kt_wound *w)
+void kt_footprint_of_tunnel(const kt_tunnel *t, const char *name, kt_footprint *w)
 {
     w->meridian = t->meridian, w->width = t->width, w->name = name;
     double ri = hypot(t->exit[0], t->exit[1]), re = hypot(t->entry[0], t->entry[1]);
@@ -19,20 +19,20 @@ void kt_wound_of_tunnel(const kt_tunnel *t, const char *name, kt_wound *w)
 }
 
 /* Distance (mm) from the point of the circle of radius R at angle th (deg) to the footprint. */
-static double dist(const kt_wound *w, double th, double R)
+static double dist(const kt_footprint *w, double th, double R)
 {
     double a = (th - w->meridian) * RAD, u = R * cos(a), v = R * sin(a);
     double du = fmax(fmax(w->r_in - u, u - w->r_out), 0), dv = fmax(fabs(v) - 0.5 * w->width, 0);
     return hypot(du, dv);
 }
 
-static int bad(const kt_wound *w, double centre, double arc, double radius)
+static int bad(const kt_footprint *w, double centre, double arc, double radius)
 {
     return !(radius > 0 && arc >= 0 && isfinite(centre) && w->width > 0 && w->r_in < w->r_out &&
              isfinite(w->meridian));
 }
 
-double kt_clearance(const kt_wound *w, double centre, double arc, double radius)
+double kt_clearance(const kt_footprint *w, double centre, double arc, double radius)
 {
     if (bad(w, centre, arc, radius)) return NAN;
     int n = (int)ceil(arc / SAMPLE);
@@ -48,7 +48,7 @@ double kt_clearance(const kt_wound *w, double centre, double arc, double radius)
 }
 
 /* Is the point at angle th closer than lim (mm) to a wound (or in it)? The wound's index or -1. */
-static int near(const kt_wound *w, int nw, double th, double R, double lim)
+static int near(const kt_footprint *w, int nw, double th, double R, double lim)
 {
     for (int k = 0; k < nw; k++) {
         double d = dist(&w[k], th, R);
@@ -57,7 +57,7 @@ static int near(const kt_wound *w, int nw, double th, double R, double lim)
     return -1;
 }
 
-double kt_clear_arc(const kt_wound *w, int nw, double centre, double max, double radius, double min, int *which)
+double kt_clear_arc(const kt_footprint *w, int nw, double centre, double max, double radius, double min, int *which)
 {
     *which = -1;
     for (int k = 0; k < nw; k++)
@@ -88,7 +88,7 @@ static double wrap(double a)
     return a < 0 ? a + 360 : a;
 }
 
-void kt_clear_family(const kt_wound *w, int nw, double centre, int paired, double ratio, double max, double radius,
+void kt_clear_family(const kt_footprint *w, int nw, double centre, int paired, double ratio, double max, double radius,
                      double min, kt_clear_result *r)
 {
     memset(r, 0, sizeof *r);
@@ -107,7 +107,7 @@ void kt_clear_family(const kt_wound *w, int nw, double centre, int paired, doubl
     r->wound = r->opposite ? k2 : k1;
     r->trimmed = r->arc < max;
     if (!r->trimmed || r->wound < 0) return;
-    const kt_wound *lw = &w[r->wound];
+    const kt_footprint *lw = &w[r->wound];
     snprintf(r->reason, sizeof r->reason, "the arc at %.0f deg would come within %g deg of %s at %.0f deg (%.1f mm zone)",
              r->opposite ? wrap(centre + 180) : wrap(centre), min, lw->name ? lw->name : "a wound", lw->meridian,
              2 * radius);

@@ -35,19 +35,20 @@
  * the project's rule, argued in keratome-patient(5), CLEARANCE). */
 #define KT_CLEARANCE_DEG 15.0
 
-typedef struct kt_wound {
+/* A wound's footprint (named kt_footprint: lib/fem/wound.h's kt_wound is the healed bridge). */
+typedef struct kt_footprint {
     double meridian;            /* deg [0, 360) */
     double width;               /* mm, across the meridian */
     double r_in, r_out;         /* mm from the eye axis, r_in < r_out */
     const char *name;           /* "the main incision", "the side port": for the reason text */
-} kt_wound;
+} kt_footprint;
 
 /* The footprint of a tunnel whose plane kt_tunnel_derive derived (entry, exit set). */
-void kt_wound_of_tunnel(const kt_tunnel *t, const char *name, kt_wound *w);
+void kt_footprint_of_tunnel(const kt_tunnel *t, const char *name, kt_footprint *w);
 
-double kt_clearance(const kt_wound *w, double centre, double arc, double radius);
+double kt_clearance(const kt_footprint *w, double centre, double arc, double radius);
 
-double kt_clear_arc(const kt_wound *w, int nw, double centre, double max, double radius, double min, int *which);
+double kt_clear_arc(const kt_footprint *w, int nw, double centre, double max, double radius, double min, int *which);
 
 typedef struct kt_clear_result {
     double arc;                 /* deg: the longest arc at `centre` (0: the family is left out) */
@@ -59,7 +60,7 @@ typedef struct kt_clear_result {
 } kt_clear_result;
 
 /* ratio: the opposite arc over this one (1 an equal pair); paired 0: a single arc. */
-void kt_clear_family(const kt_wound *w, int nw, double centre, int paired, double ratio, double max, double radius,
+void kt_clear_family(const kt_footprint *w, int nw, double centre, int paired, double ratio, double max, double radius,
                      double min, kt_clear_result *r);
 
 #endif

@@ -4,9 +4,11 @@
  * x-z half-plane and revolved about z; each incision ring is a revolved segment that starts
  * slightly outside the eye and runs along the local normal to its depth. A boolean fragment
  * makes the rings conforming internal faces of the volumes and the outside stubs are removed.
- * After meshing (and order elevation, curved to the geometry) the nodes are mapped by a
- * vertical displacement that turns the anterior sphere into the exact toric surface and
- * blends to zero through the corneal thickness and across the limbus. */
+ * After meshing (and order elevation, curved to the geometry) an oval cornea's nodes are moved
+ * in their meridians (kt_eye_warp_oval: the corneal edge onto the white-to-white ellipse, the
+ * rings with it, the central zone untouched), then every node is mapped by a vertical
+ * displacement that turns the anterior sphere into the exact toric surface and blends to zero
+ * through the corneal thickness and across the limbus. */
 #include "eye.h"
 
 #include <gmshc.h>
@@ -359,6 +361,24 @@ static int floor_distance(eye_build *b, int i, char *expr, size_t len)
     return n > 0 && (size_t)n < len ? matheval(b, expr) : (b->ierr = 1, -1);
 }
 
+/* Where on the mesh of revolution the oval warp's outer surface point lands at *dist in the
+ * meridian t: *dist becomes its pre-image (bisection; the warp is monotone along a meridian),
+ * *rad grows by how much more the outer surface moves there than the inner one. Unchanged on
+ * a round eye. */
+static void site_preimage(const kt_eye_geom *g, double t, double *dist, double *rad)
+{
+    double c = cos(t), s = sin(t), lo = 0, hi = g->rL;
+    if (!g->oval || !(*dist < g->rL)) return;
+    for (int it = 0; it < 100; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (kt_eye_geom_oval_rho(g, mid, c, s) < *dist) lo = mid;
+        else hi = mid;
+    }
+    double xi = 0.5 * (lo + hi);
+    *rad += fabs(kt_eye_geom_oval_shift(g, xi, 1, c, s) - kt_eye_geom_oval_shift(g, xi, 0, c, s));
+    *dist = xi;
+}
+
 /* Size fields: h_incision near the rings, h_floor at the rings' floor (within the sector),
  * h_optical in the central zone, h_cornea elsewhere in cornea and limbus, h_sclera in the
  * sclera; the background size is their minimum. */
@@ -394,11 +414,14 @@ static int size_fields(eye_build *b, kt_err *e)
             fl[n++] = f;
     }
     if (eye->site_radius > 0) {
-        /* The site: horizontal distance from its axis (every number parenthesized, see above). */
-        double cx = eye->site_distance * cos(eye->site_meridian * KT_PI / 180);
-        double cy = eye->site_distance * sin(eye->site_meridian * KT_PI / 180);
+        /* The site: horizontal distance from its axis (every number parenthesized, see above),
+         * on the mesh of revolution where the oval warp takes it. */
+        double dist = eye->site_distance, rad = eye->site_radius;
+        site_preimage(g, eye->site_meridian * KT_PI / 180, &dist, &rad);
+        double cx = dist * cos(eye->site_meridian * KT_PI / 180);
+        double cy = dist * sin(eye->site_meridian * KT_PI / 180);
         snprintf(expr, sizeof expr, "sqrt((x-(%.17g))^2 + (y-(%.17g))^2)", cx, cy);
-        if ((f = graded(b, matheval(b, expr), eye->h_incision, eye->site_radius, 2 * hc, hc, hmax)) > 0) fl[n++] = f;
+        if ((f = graded(b, matheval(b, expr), eye->h_incision, rad, 2 * hc, hc, hmax)) > 0) fl[n++] = f;
     }
     double hring = fmin(eye->h_incision, hc);
     for (int i = 0; i < eye->nring && eye->h_floor > 0; i++) {
@@ -684,7 +707,10 @@ int kt_eye_mesh(const kt_eye *eye, int order, int quiet, kt_mesh *m, kt_err *e)
     gmshFinalize(&ierr);
     free(b.vol_region);
     free(b.surf_group);
-    if (rc == KT_OK) rc = kt_eye_warp_toric(&b.g, m, e);
+    /* The oval warp first (it keeps every surface of revolution on itself), then the toric one
+     * with the measured surfaces' departures evaluated where the nodes now are. */
+    if (rc == KT_OK) rc = kt_eye_warp_oval(&b.g, m, e);
+    if (rc == KT_OK) rc = kt_eye_warp_measured(&b.g, eye, m, e);
     if (rc == KT_OK) rc = kt_mesh_check(m, "eye (after the toric map)", e);
     int nstraight = 0;
     if (rc == KT_OK) rc = kt_eye_straighten_inverted(m, &nstraight, e);

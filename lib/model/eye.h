@@ -42,6 +42,23 @@ double kt_eye_layers(int order);
 int kt_eye_estimate_tets(const kt_eye *eye, int order, double *tets, kt_err *e);
 
 
+/* The oval cornea (eye_geom.h, kt_eye_warp_oval; keratome-scene(5), THE OVAL CORNEA). */
+/* The least vertical white-to-white (mm) the oval warp takes for this eye's other dimensions:
+ * wtw - 1.6 (wtw - limbus_width - optical_zone) / 2 (its ramp squeezes no element to less than
+ * a fifth of its radial size); NAN when they do not make an eye. */
+double kt_eye_wtw_v_min(const kt_eye *eye);
+/* The radial distance (mm) from the axis, in the meridian `meridian` (deg TABO), of the anterior
+ * surface's curve that has the horizontal diameter `diameter` (an incision ring's zone, a
+ * tunnel's entry) after the oval warp: diameter / 2 for a round eye; on the oval, from
+ * KT_EYE_OVAL_RAMP (rc - rv) outside the optical zone on, diameter / 2 - (wtw - wtw_v) / 2 at
+ * 90 deg. NAN when the eye's dimensions are inconsistent. */
+double kt_eye_oval_radius(const kt_eye *eye, double diameter, double meridian);
+/* The chord (mm, seen from the front) between the ends of the arc of that curve from meridian
+ * `from` to `to` (deg, counter-clockwise), and its length along the curve (mm, seen from the
+ * front; 0.5 diameter (to - from) in radians for a round eye). NAN for an inconsistent eye. */
+double kt_eye_arc_chord(const kt_eye *eye, double diameter, double from, double to);
+double kt_eye_arc_length(const kt_eye *eye, double diameter, double from, double to);
+
 /* Lamellar frames of the eye's tets (eye.fibres; keratome-scene(5)), at each tet's centroid:
  * F[13 t + 0..2] a1 and [3..5] a2, the in-plane fibre directions (nasal-temporal and
  * superior-inferior centrally, turned about n from a1 towards a2 by w times the tangent-plane
@@ -49,7 +66,9 @@ int kt_eye_estimate_tets(const kt_eye *eye, int order, double *tets, kt_err *e);
  * at w = 1), [6..8] n, the normal (from the anterior sphere's centre in the cornea, the globe's
  * centre elsewhere), [9..11] c, the in-plane circumferential direction, [12] w, the limbal weight:
  * 0 inside rc - limbal_band, 1 from the corneal edge rc = white_to_white/2 on (and in limbus and
- * sclera), smoothstep between. */
+ * sclera), smoothstep between. On an oval cornea rc is the edge's radius in the tet's meridian
+ * (kt_eye_geom_edge_rho), and radial / circumferential are the normal / tangent of the ellipse
+ * x^2/a^2 + y^2/b^2 through the centroid (a, b the white-to-white semi-axes). */
 int kt_eye_fibre_frames(const kt_eye *eye, const kt_mesh *m, double *F, kt_err *e);
 
 /* Relative depth of each tet's centroid (mean of its corners) through the local thickness of

@@ -43,13 +43,21 @@ static void frame_at(const kt_eye_geom *g, const kt_eye *eye, const double *p, i
     cross3(n, a1, a2);
     double rho = hypot(p[0], p[1]);
     double w = 1.0;
+    /* On an oval cornea: the edge in this meridian, and radial / circumferential are the normal /
+     * tangent of the ellipse of the white-to-white's axes through p (kt_eye_fibre_frames). */
+    double edge = g->rc, nx = p[0], ny = p[1];
+    if (g->oval && rho > 1e-9) {
+        edge = kt_eye_geom_edge_rho(g, p[0] / rho, p[1] / rho);
+        nx = p[0] * g->rv * g->rv, ny = p[1] * g->rc * g->rc;
+    }
     if (cornea) {
-        double s = (rho - (g->rc - eye->fibre_band)) / eye->fibre_band;
+        double s = (rho - (edge - eye->fibre_band)) / eye->fibre_band;
         s = s < 0 ? 0 : s > 1 ? 1 : s;
         w = s * s * (3 - 2 * s);
     }
     if (rho > 1e-9) {
-        double cz[3] = {-p[1] / rho, p[0] / rho, 0};
+        double nr = g->oval ? hypot(nx, ny) : rho;
+        double cz[3] = {-ny / nr, nx / nr, 0};
         project(cz, n, c);
     } else {
         memcpy(c, a2, sizeof c);

@@ -277,6 +277,27 @@ static int init_posterior(const kt_eye *eye, kt_eye_geom *g, kt_err *e)
     return init_post_toric(eye, g, e);
 }
 
+/* The oval cornea: the white-to-white ellipse and the warp's ramp (eye_geom.h). */
+static int init_oval(const kt_eye *eye, kt_eye_geom *g, kt_err *e)
+{
+    double v = eye->wtw_v == 0 ? eye->wtw : eye->wtw_v;
+    if (!(v > 0) || !(v <= eye->wtw))
+        return kt_fail(e, KT_EINPUT, "eye.white_to_white.vertical: expected a positive diameter at most the "
+                       "horizontal white_to_white (%g mm), got %g mm", eye->wtw, v);
+    g->rv = 0.5 * v;
+    g->oval = g->rv < g->rc;
+    if (!g->oval) return KT_OK;
+    double d = g->rc - g->rv;
+    g->ov_r0 = 0.5 * eye->optical_zone;
+    g->ov_xb = g->rc - 0.5 * eye->limbus_width;
+    g->ov_r1 = fmin(g->ov_r0 + KT_EYE_OVAL_RAMP * d, g->ov_xb);
+    if (!(d <= (1 - KT_EYE_OVAL_KEEP) * (g->ov_r1 - g->ov_r0)))
+        return kt_fail(e, KT_EINPUT, "eye.white_to_white.vertical: expected at least %g mm (the horizontal %g mm less "
+                       "what the cornea between the optical zone and the outermost ring can take), got %g mm",
+                       eye->wtw - 2 * (1 - KT_EYE_OVAL_KEEP) * (g->ov_xb - g->ov_r0), eye->wtw, v);
+    return KT_OK;
+}
+
 static int init_limbus(const kt_eye *eye, kt_eye_geom *g, kt_err *e)
 {
     const double *q[4] = {g->Pp, g->E, g->Lo, g->Li};
@@ -299,7 +320,7 @@ int kt_eye_geom_init(const kt_eye *eye, kt_eye_geom *g, kt_err *e)
 {
     memset(g, 0, sizeof *g);
     if (check_sizes(eye, e) || init_outer(eye, g, e) || init_posterior(eye, g, e) ||
-        init_limbus(eye, g, e))
+        init_limbus(eye, g, e) || init_oval(eye, g, e))
         return e->code;
     return KT_OK;
 }
@@ -320,6 +341,9 @@ int kt_eye_geom_ring(const kt_eye_geom *g, const kt_eye *eye, int i, double top[
         return kt_fail(e, KT_EINPUT, "eye.rings[%d] '%s': diameter %g mm lies on the corneal edge "
                        "(wtw %g mm); move it at least %g mm inside or outside", i, r->name,
                        r->diameter, eye->wtw, 2 * RING_EPS);
+    if (g->oval && rho > g->ov_xb)
+        return kt_fail(e, KT_EINPUT, "eye.rings[%d] '%s': diameter %g mm: on an oval cornea a ring lies in clear cornea, "
+                       "at most white_to_white - limbus_width (%g mm)", i, r->name, r->diameter, 2 * g->ov_xb);
     for (int j = 0; j < i; j++)
         if (fabs(eye->ring[j].diameter - r->diameter) < 2 * RING_EPS)
             return kt_fail(e, KT_EINPUT, "eye.rings[%d] '%s': diameter %g mm coincides with ring "
@@ -356,4 +380,170 @@ double kt_eye_thickness(const kt_eye *eye, double r)
     kt_err e = {0};
     if (kt_eye_geom_init(eye, &g, &e)) return NAN;
     return kt_eye_geom_thickness(&g, r);
+}
+
+/* ---- the oval cornea ------------------------------------------------------------------- */
+
+/* Radius in the meridian (c, s) of the ellipse of semi-axes a (along x) and b (along y). */
+static double ellipse_rho(double a, double b, double c, double s)
+{
+    return a * b / hypot(b * c, a * s);
+}
+
+double kt_eye_geom_edge_rho(const kt_eye_geom *g, double c, double s)
+{
+    return g->oval ? ellipse_rho(g->rc, g->rv, c, s) : g->rc;
+}
+
+static double ramp(double x, double x0, double x1) { return clamp01((x - x0) / (x1 - x0)); }
+
+double kt_eye_geom_oval_shift(const kt_eye_geom *g, double xi, double h, double c, double s)
+{
+    if (!g->oval || !(xi > g->ov_r0) || !(xi < g->rL)) return 0;
+    double d = g->rc - g->rv;
+    if (xi <= g->rc) {
+        double T = ramp(xi, g->ov_r0, g->ov_r1), W = 1 - ramp(xi, g->ov_xb, g->rc) * (1 - h);
+        return (ellipse_rho(xi, xi - d, c, s) - xi) * T * W;
+    }
+    return (ellipse_rho(g->rc, g->rv, c, s) - g->rc) * (1 - ramp(xi, g->rc, g->rL)) * h;
+}
+
+double kt_eye_geom_oval_rho(const kt_eye_geom *g, double xi, double c, double s)
+{
+    return xi + kt_eye_geom_oval_shift(g, xi, 1, c, s);
+}
+
+/* The limbus quad with its outer side on the globe: P(u, s) = (1 - s) I(u) + s O(u), I(u) on
+ * the line Pp-Li, O(u) on the globe arc E-Lo at the polar angle from E's to Lo's. */
+static void limbus_arc_point(const kt_eye_geom *g, double u, double s, double P[2], double Pu[2], double Ps[2])
+{
+    double aE = asin(g->rc / g->Rg), a = aE + u * (g->alphaL - aE);
+    double O[2] = {g->Rg * sin(a), g->Rg * cos(a)}, Ou[2] = {g->Rg * cos(a) * (g->alphaL - aE), -O[0] * (g->alphaL - aE)};
+    for (int k = 0; k < 2; k++) {
+        double I = g->Pp[k] + u * (g->Li[k] - g->Pp[k]);
+        P[k] = (1 - s) * I + s * O[k];
+        Pu[k] = (1 - s) * (g->Li[k] - g->Pp[k]) + s * Ou[k];
+        Ps[k] = O[k] - I;
+    }
+}
+
+/* (u, s) of X in that quad, Newton from the bilinear coordinates; 0 when it does not converge. */
+static int limbus_arc_coords(const kt_eye_geom *g, const double X[2], double *u, double *s)
+{
+    limbus_coords(g, X, u, s);
+    for (int it = 0; it < 30; it++) {
+        double P[2], Pu[2], Ps[2];
+        limbus_arc_point(g, *u, *s, P, Pu, Ps);
+        double det = Pu[0] * Ps[1] - Pu[1] * Ps[0], r[2] = {P[0] - X[0], P[1] - X[1]};
+        if (!(fabs(det) > 1e-300)) return 0;
+        double du = (r[0] * Ps[1] - r[1] * Ps[0]) / det, ds = (Pu[0] * r[1] - Pu[1] * r[0]) / det;
+        *u -= du, *s -= ds;
+        if (fabs(du) + fabs(ds) < 1e-14) return 1;
+    }
+    double P[2], Pu[2], Ps[2]; /* stalled at the last bits: the point itself decides */
+    limbus_arc_point(g, *u, *s, P, Pu, Ps);
+    return hypot(P[0] - X[0], P[1] - X[1]) < 1e-9 * g->Rg;
+}
+
+/* Shell coordinates (eye_geom.h) of a base-geometry point: 1 in cornea or limbus, 0 in the
+ * sclera, -1 when the limbus quad's coordinates do not converge. */
+static int shell_coords(const kt_eye_geom *g, double rho, double z, double *xi, double *h)
+{
+    if (atan2(rho, z) >= g->alphaL) return 0;
+    double phi = atan2(rho, z - g->z_ca);
+    if (phi <= g->phic) {
+        double d = hypot(rho, z - g->z_ca), t = post_t(g, phi);
+        *xi = g->Ra * sin(phi), *h = (d - t) / (g->Ra - t);
+        return 1;
+    }
+    double X[2] = {rho, z}, u, s;
+    if (!limbus_arc_coords(g, X, &u, &s)) return -1;
+    *xi = g->rc + u * (g->rL - g->rc), *h = s;
+    return 1;
+}
+
+static void shell_point(const kt_eye_geom *g, double xi, double h, double *rho, double *z)
+{
+    if (xi <= g->rc) {
+        double phi = asin(xi / g->Ra), t = post_t(g, phi), d = t + h * (g->Ra - t);
+        *rho = d * sin(phi), *z = g->z_ca + d * cos(phi);
+        return;
+    }
+    double P[2], Pu[2], Ps[2];
+    limbus_arc_point(g, (xi - g->rc) / (g->rL - g->rc), h, P, Pu, Ps);
+    *rho = P[0], *z = P[1];
+}
+
+int kt_eye_warp_oval(const kt_eye_geom *g, kt_mesh *m, kt_err *e)
+{
+    if (!g->oval) return KT_OK;
+    for (int i = 0; i < m->nn; i++) {
+        double *p = m->xyz + 3 * (size_t)i, rho = hypot(p[0], p[1]), xi, h;
+        if (!(rho > 0)) continue;
+        int in = shell_coords(g, rho, p[2], &xi, &h);
+        if (in < 0) return kt_fail(e, KT_ERUN, "eye: node %d: no limbus coordinates for the oval warp", i + 1);
+        if (!in) continue;
+        double c = p[0] / rho, s = p[1] / rho, shift = kt_eye_geom_oval_shift(g, xi, h, c, s), r2, z2;
+        if (shift == 0) continue;
+        shell_point(g, xi + shift, h, &r2, &z2);
+        if (!isfinite(r2) || !isfinite(z2) || !(r2 > 0))
+            return kt_fail(e, KT_ERUN, "eye: node %d left the eye under the oval warp", i + 1);
+        p[0] = r2 * c, p[1] = r2 * s, p[2] = z2;
+    }
+    return KT_OK;
+}
+
+/* ---- the oval seen from the plan ------------------------------------------------------- */
+
+double kt_eye_wtw_v_min(const kt_eye *eye)
+{
+    kt_eye round = *eye;
+    round.wtw_v = 0;
+    kt_eye_geom g;
+    kt_err e = {0};
+    if (kt_eye_geom_init(&round, &g, &e)) return NAN;
+    return eye->wtw - 2 * (1 - KT_EYE_OVAL_KEEP) * (eye->wtw - eye->limbus_width - eye->optical_zone) / 2;
+}
+
+double kt_eye_oval_radius(const kt_eye *eye, double diameter, double meridian)
+{
+    kt_eye_geom g;
+    kt_err e = {0};
+    if (kt_eye_geom_init(eye, &g, &e)) return NAN;
+    return kt_eye_geom_oval_rho(&g, 0.5 * diameter, cos(meridian * DEG), sin(meridian * DEG));
+}
+
+static void curve_xy(const kt_eye_geom *g, double xi, double deg, double p[2])
+{
+    double c = cos(deg * DEG), s = sin(deg * DEG), r = kt_eye_geom_oval_rho(g, xi, c, s);
+    p[0] = r * c, p[1] = r * s;
+}
+
+double kt_eye_arc_chord(const kt_eye *eye, double diameter, double from, double to)
+{
+    kt_eye_geom g;
+    kt_err e = {0};
+    if (kt_eye_geom_init(eye, &g, &e)) return NAN;
+    double a[2], b[2];
+    curve_xy(&g, 0.5 * diameter, from, a);
+    curve_xy(&g, 0.5 * diameter, to, b);
+    return hypot(b[0] - a[0], b[1] - a[1]);
+}
+
+/* Along the curve: the polygon of 1/8 deg steps (on a circle of 5 mm it is short by 1e-7 mm). */
+double kt_eye_arc_length(const kt_eye *eye, double diameter, double from, double to)
+{
+    kt_eye_geom g;
+    kt_err e = {0};
+    if (kt_eye_geom_init(eye, &g, &e)) return NAN;
+    if (!g.oval) return 0.5 * diameter * (to - from) * DEG;
+    int n = (int)ceil(fabs(to - from) * 8) + 1;
+    double len = 0, a[2], b[2];
+    curve_xy(&g, 0.5 * diameter, from, a);
+    for (int i = 1; i <= n; i++) {
+        curve_xy(&g, 0.5 * diameter, from + (to - from) * i / n, b);
+        len += hypot(b[0] - a[0], b[1] - a[1]);
+        a[0] = b[0], a[1] = b[1];
+    }
+    return len;
 }

@@ -14,6 +14,7 @@
 #ifndef KT_EYE_GEOM_H
 #define KT_EYE_GEOM_H
 
+#include "eye_depart.h"
 #include "mesh.h"
 
 /* The mesh group tags of the eye (names and meaning in eye.h). */
@@ -25,6 +26,19 @@ enum { KT_EYE_SURF_ANTERIOR = 1, KT_EYE_SURF_INNER, KT_EYE_SURF_FIXED, KT_EYE_SU
  * d from the floor the size is h_floor + KT_EYE_FLOOR_GRADING (d - h_floor / 2), up to the
  * ring's size (eye.c's size field; eye_budget.c's estimate). */
 #define KT_EYE_FLOOR_GRADING 0.5
+
+/* The oval warp's ramp (eye_geom.c): its whole move is reached KT_EYE_OVAL_RAMP (rc - rv) outside
+ * the optical zone (the ramp squeezes the tissue radially by 1 / KT_EYE_OVAL_RAMP = half at most)
+ * or, when that lies beyond rc - limbus_width / 2 (the outermost ring), there, if the squeeze
+ * keeps at least KT_EYE_OVAL_KEEP of the radial size. */
+#define KT_EYE_OVAL_RAMP 2.0
+#define KT_EYE_OVAL_KEEP 0.2
+
+/* The horizontal less the vertical white-to-white, mm, where only the horizontal is given: the
+ * population means 11.71 mm (Rufer et al. 2005, Orbscan II) and 10.63 mm (the optometric
+ * literature's vertical diameter); an offset, not a ratio, as the anatomy has it (the sclera
+ * overlapping the cornea more superiorly and inferiorly; keratome-scene(5), THE OVAL CORNEA). */
+#define KT_EYE_WTW_DIFF 1.1
 
 /* The eye's parameters as the scene gives them (internal units mm, degrees). */
 #define KT_SCENE_MAX 16
@@ -46,7 +60,9 @@ typedef struct kt_eye {
                                        curvature is 1/r_post */
     double post_axis;               /* the posterior's steep meridian, deg (TABO, 0..180) */
     double t_central, t_peripheral; /* corneal thickness at the apex and at the limbus, mm */
-    double wtw;                     /* white-to-white (corneal) diameter, mm */
+    double wtw;                     /* white-to-white (corneal) diameter, mm: the horizontal one */
+    double wtw_v;                   /* vertical white-to-white, mm, at most wtw; 0: wtw (a round
+                                       cornea). Less than wtw: the oval cornea (kt_eye_warp_oval) */
     double limbus_width;            /* width of the limbal zone, mm */
     double sclera_thickness;        /* scleral thickness at the limbus, mm */
     double globe_radius;            /* outer scleral radius, mm */
@@ -68,6 +84,9 @@ typedef struct kt_eye {
                                        incision's tunnel; eye.mesh_size.site); radius 0: none */
     int nring;
     kt_ring ring[KT_SCENE_MAX];
+    kt_eye_departure dep_ant, dep_post; /* the measured surfaces' departures from the base ones
+                                       (eye_depart.h; eye.anterior_departure, posterior_departure);
+                                       order 0: none */
 } kt_eye;
 
 typedef struct kt_eye_geom {
@@ -87,6 +106,12 @@ typedef struct kt_eye_geom {
                                none beyond taper_out (= Pp[0], where the posterior cornea
                                meets the limbus) */
     int whole;              /* extent = 180 deg: closed globe, no rim */
+    int oval;               /* wtw_v < wtw: the corneal edge is the ellipse of semi-axes rc, rv */
+    double rv;              /* vertical semi-axis of the corneal edge (rc when round) */
+    double ov_r0, ov_r1;    /* the oval warp's ramp: no move within ov_r0 (optical_zone / 2),
+                               the whole move from ov_r1 on */
+    double ov_xb;           /* from here (rc - limbus_width / 2, the last ring) to the corneal
+                               edge the posterior's share of the move falls to 0 */
 } kt_eye_geom;
 
 /* Derive and validate the geometry; inconsistent dimensions are KT_EINPUT. */
@@ -132,6 +157,31 @@ int kt_eye_geom_ring(const kt_eye_geom *g, const kt_eye *eye, int i, double top[
  * (mm) of the eye with these parameters; NAN when the parameters are inconsistent. */
 double kt_eye_anterior_z(const kt_eye *eye, double x, double y);
 double kt_eye_thickness(const kt_eye *eye, double r);
+
+/* The oval cornea (keratome-scene(5), THE OVAL CORNEA). A base-geometry point of cornea or
+ * limbus has shell coordinates (xi, h): h its relative height (1 on the outer surface, 0 on the
+ * inner one; in the cornea along the ray from the anterior sphere's centre, in the limbus across
+ * the quad whose outer side is the globe arc E-Lo), xi its position along the shell (in the
+ * cornea the projected radius rho where its ray meets the anterior sphere, so a ring of
+ * revolution has one xi; in the limbus rc + u (rL - rc), u across the quad). The warp moves a
+ * point in its own meridian t from xi to xi + kt_eye_geom_oval_shift(xi, h, t), h kept: from
+ * ov_r1 to the corneal edge the outer surface's point at xi lands on the ellipse of semi-axes
+ * xi (horizontal) and xi - (rc - rv) (vertical), so the corneal edge lands on the white-to-white
+ * ellipse and every ring lies at the same distance inside it in every meridian; the move ramps
+ * linearly from 0 at ov_r0; near the edge the inner surface's share falls to 0 (the posterior
+ * corneal boundary stays circular); across the limbus it falls to 0 at the limbus's outer edge.
+ * 0 for a round eye and outside (ov_r0, rL). */
+double kt_eye_geom_oval_shift(const kt_eye_geom *g, double xi, double h, double c, double s);
+/* The radial distance (mm) in the meridian (cos t, sin t) = (c, s) of the outer surface's point
+ * at horizontal-equivalent xi after the oval warp: xi + shift(xi, 1); xi when round. */
+double kt_eye_geom_oval_rho(const kt_eye_geom *g, double xi, double c, double s);
+/* The radius of the corneal edge (the white-to-white ellipse) in the meridian (c, s). */
+double kt_eye_geom_edge_rho(const kt_eye_geom *g, double c, double s);
+/* Move the nodes of a mesh of revolution of g by the oval warp (before kt_eye_warp_toric,
+ * which takes the result as its base geometry: the warp keeps every surface of revolution
+ * on itself). Nothing moves (the same bytes) when g is round; KT_ERUN when a node cannot be
+ * mapped. */
+int kt_eye_warp_oval(const kt_eye_geom *g, kt_mesh *m, kt_err *e);
 
 /* Map the nodes of a mesh of revolution onto the toric anterior surface of g (mid-edge nodes
  * of the anterior cornea follow the surface) and, when the posterior is toric, onto the toric

@@ -1,6 +1,7 @@
 /* patient.c: load and validate a patient file (man/man5/keratome-patient.5). Every default is
  * documented there with its source; every check runs before any meshing. */
 #include "patient.h"
+#include "units.h"
 
 #include <ctype.h>
 #include <math.h>
@@ -14,14 +15,13 @@
 #include "scene_int.h" /* the eye defaults of keratome-scene(5) */
 #include "yml.h"
 
-#define MMHG 133.322387415e-6 /* MPa per mmHg (conventional millimetre of mercury) */
 /* The patient file's range of a pachymetry, mm (central_thickness, thickness_at_zone, and every
  * cell of a Pentacam pachymetry map). */
 #define PACHY_LO 0.3
 #define PACHY_HI 1.2
 
-static const char *const TOP_KEYS[] = {"name", "description", "eye", "age", "iop", "cornea",
-                                       "main_incision", "side_port", "target", "constraints", NULL};
+static const char *const TOP_KEYS[] = {"name", "id", "date_of_birth", "surgeon", "description", "eye", "age", "iop",
+                                       "cornea", "main_incision", "side_port", "target", "constraints", NULL};
 static const char *const CORNEA_KEYS[] = {"keratometry", "pentacam", "posterior", "central_thickness",
                                           "thickness_at_zone", "white_to_white", NULL};
 static const char *const K_KEYS[] = {"k_steep", "k_flat", "steep_axis", NULL};
@@ -41,7 +41,7 @@ static const char *const ARCS[] = {"either", "single", "paired", NULL};
 #define PATIENT_OPTICAL_ZONE 7.0
 #define PATIENT_LIMBUS 1.0
 
-double kt_patient_k(double r) { return 337.5 / r; }
+double kt_patient_k(double r) { return KT_N_KERATO / r; }
 double kt_patient_post_k(double r) { return -KT_PATIENT_N_POST / r; }
 void kt_patient_default_posterior(const kt_toric *ant, kt_toric *post)
 {
@@ -84,7 +84,7 @@ static kt_yml_bounds range(double lo, double hi, int lo_open, int hi_open)
 static void defaults(kt_patient *p)
 {
     memset(p, 0, sizeof *p);
-    p->iop = KT_PATIENT_IOP_MMHG * MMHG;
+    p->iop = KT_PATIENT_IOP_MMHG * KT_MMHG_MPA;
     p->ant.conic = p->post.conic = NAN;
     /* the posterior of an anterior without cylinder until the anterior is known (parse) */
     kt_toric no_cyl = {KT_PATIENT_POST_RADIUS, KT_PATIENT_POST_RADIUS, 0, NAN, KT_SOURCE_DEFAULT};
@@ -92,6 +92,7 @@ static void defaults(kt_patient *p)
     p->t_central = 0.54; /* Doughty & Zaman 2000 */
     p->t_zone = NAN;
     p->wtw = 11.7;       /* Rufer et al. 2005 */
+    p->wtw_v = 11.7 - KT_EYE_WTW_DIFF; /* keratome-patient(5), white_to_white */
     p->main_simulate = 1;
     p->target_residual = 0.5; /* Villegas et al. 2014 */
     p->max_arc = 90;
@@ -116,7 +117,7 @@ static int parse_k(kt_yml *y, const yaml_node_t *n, const char *what, int sign, 
     if (kt_yml_check_map(y, n, what, K_KEYS, e)) return e->code;
     for (int i = 0; K_KEYS[i]; i++)
         if (!kt_yml_require(y, n, K_KEYS[i], what, e)) return e->code;
-    kt_yml_bounds b = sign > 0 ? range(20, 70, 0, 0) : range(-15, -2, 0, 0);
+    kt_yml_bounds b = sign > 0 ? range(KT_PATIENT_K_MIN, KT_PATIENT_K_MAX, 0, 0) : range(-15, -2, 0, 0);
     double ks, kf;
     if (kt_yml_key_quantity(y, n, what, "k_steep", KT_UNIT_POWER, b, &ks, e) ||
         kt_yml_key_quantity(y, n, what, "k_flat", KT_UNIT_POWER, b, &kf, e) ||
@@ -125,8 +126,8 @@ static int parse_k(kt_yml *y, const yaml_node_t *n, const char *what, int sign, 
     if (fabs(kf) > fabs(ks))
         return kt_yml_fail(y, kt_yml_get(y, n, "k_flat"), e,
                            "%s.k_flat: expected at most k_steep in magnitude (%g D), got %g D", what, ks, kf);
-    t->r_steep = sign > 0 ? 337.5 / ks : -KT_PATIENT_N_POST / ks;
-    t->r_flat = sign > 0 ? 337.5 / kf : -KT_PATIENT_N_POST / kf;
+    t->r_steep = sign > 0 ? KT_N_KERATO / ks : -KT_PATIENT_N_POST / ks;
+    t->r_flat = sign > 0 ? KT_N_KERATO / kf : -KT_PATIENT_N_POST / kf;
     t->conic = NAN;
     t->source = KT_SOURCE_KERATOMETRY;
     return KT_OK;
@@ -178,7 +179,7 @@ static int parse_cornea(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *
     kt_yml_bounds thick = range(PACHY_LO, PACHY_HI, 0, 0);
     if (kt_yml_key_quantity(y, n, w, "central_thickness", KT_UNIT_LENGTH, thick, &p->t_central, e) ||
         kt_yml_key_quantity(y, n, w, "thickness_at_zone", KT_UNIT_LENGTH, thick, &p->t_zone, e) ||
-        kt_yml_key_quantity(y, n, w, "white_to_white", KT_UNIT_LENGTH, range(9, 14, 0, 0), &p->wtw, e))
+        kt_scene_parse_wtw(y, n, w, range(9, 14, 0, 0), range(8, 14, 0, 0), &p->wtw, &p->wtw_v, e))
         return e->code;
     return KT_OK;
 }
@@ -227,7 +228,7 @@ static int parse_main(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *e)
         const char *ws = "main_incision.sia";
         if (kt_yml_check_map(y, sia, ws, SIA_KEYS, e) || !kt_yml_require(y, sia, "magnitude", ws, e) ||
             !kt_yml_require(y, sia, "axis", ws, e) ||
-            kt_yml_key_quantity(y, sia, ws, "magnitude", KT_UNIT_POWER, range(0, 5, 0, 0), &p->main_sia, e) ||
+            kt_yml_key_quantity(y, sia, ws, "magnitude", KT_UNIT_POWER, range(0, KT_PATIENT_SIA_MAX, 0, 0), &p->main_sia, e) ||
             axis_field(y, sia, ws, "axis", &p->main_sia_axis, e))
             return e->code;
         p->main_simulate = 0;
@@ -290,16 +291,30 @@ static int parse_rest(kt_yml *y, const yaml_node_t *root, kt_patient *p, kt_err 
     return KT_OK;
 }
 
+/* The default eye with the patient's cornea, thickness and white-to-white. */
+static void model_eye(const kt_patient *p, kt_eye *eye)
+{
+    kt_scene_eye_defaults(eye);
+    eye->r_ant_steep = p->ant.source == KT_SOURCE_KERATOMETRY ? p->ant.r_steep : eye->r_ant_steep;
+    eye->r_ant_flat = p->ant.source == KT_SOURCE_KERATOMETRY ? p->ant.r_flat : eye->r_ant_flat;
+    eye->r_post = 2 / (1 / p->post.r_steep + 1 / p->post.r_flat);
+    eye->t_central = p->t_central;
+    eye->wtw = p->wtw;
+    eye->wtw_v = p->wtw_v;
+}
+
 double kt_patient_model_zone_thickness(const kt_patient *p)
 {
     kt_eye eye;
-    kt_scene_eye_defaults(&eye);
-    eye.r_ant_steep = p->ant.source == KT_SOURCE_KERATOMETRY ? p->ant.r_steep : eye.r_ant_steep;
-    eye.r_ant_flat = p->ant.source == KT_SOURCE_KERATOMETRY ? p->ant.r_flat : eye.r_ant_flat;
-    eye.r_post = 2 / (1 / p->post.r_steep + 1 / p->post.r_flat);
-    eye.t_central = p->t_central;
-    eye.wtw = p->wtw;
+    model_eye(p, &eye);
     return kt_eye_thickness(&eye, p->zone / 2);
+}
+
+double kt_patient_zone_chord(const kt_patient *p, double centre, double arc)
+{
+    kt_eye eye;
+    model_eye(p, &eye);
+    return kt_eye_arc_chord(&eye, p->zone, centre - arc / 2, centre + arc / 2);
 }
 
 /* Consistency: the zone between the optical zone and the corneal edge, the depth within the
@@ -316,6 +331,16 @@ static int check(kt_yml *y, const yaml_node_t *root, kt_patient *p, kt_err *e)
                            "constraints.zone: expected a diameter outside the optical zone (> %g mm) and inside "
                            "white_to_white - limbus (<= %g mm), got %g mm",
                            PATIENT_OPTICAL_ZONE, clear, p->zone);
+    kt_eye eye;
+    model_eye(p, &eye);
+    double vmin = kt_eye_wtw_v_min(&eye);
+    if (p->wtw_v < vmin) {
+        yaml_node_t *w = kt_yml_get(y, cornea, "white_to_white");
+        if (w && kt_yml_get(y, w, "vertical")) w = kt_yml_get(y, w, "vertical");
+        return kt_yml_fail(y, w ? w : root, e, "cornea.white_to_white.vertical: expected at least %g mm (the horizontal "
+                           "%g mm less what the cornea between the optical zone and the zone's ring can take), got %g mm",
+                           vmin, p->wtw, p->wtw_v);
+    }
     if (!isnan(p->t_zone) && p->t_zone < p->t_central) {
         yaml_node_t *t = kt_yml_get(y, cornea, "thickness_at_zone");
         return kt_yml_fail(y, t, e, "cornea.thickness_at_zone: expected at least central_thickness (%g um), got %g um",
@@ -417,19 +442,46 @@ int kt_patient_check_fit(const kt_patient *p, int post_fit, int pachy_fit, kt_er
     return KT_OK;
 }
 
+/* date_of_birth: an ISO 8601 calendar date YYYY-MM-DD, a real day of a year 1900-2100. */
+static int parse_dob(kt_yml *y, const yaml_node_t *n, kt_patient *p, kt_err *e)
+{
+    static const int mdays[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    char t[KT_NAME_MAX];
+    if (kt_yml_string(y, n, "date_of_birth", t, sizeof t, e)) return e->code;
+    int yr = 0, mo = 0, dy = 0, len = 0;
+    int ok = strlen(t) == 10 && sscanf(t, "%4d-%2d-%2d%n", &yr, &mo, &dy, &len) == 3 && len == 10 && t[4] == '-' &&
+             t[7] == '-' && isdigit((unsigned char)t[5]) && isdigit((unsigned char)t[8]) && yr >= 1900 && yr <= 2100 &&
+             mo >= 1 && mo <= 12 && dy >= 1 && dy <= mdays[mo - 1] &&
+             !(mo == 2 && dy == 29 && (yr % 4 || (yr % 100 == 0 && yr % 400)));
+    if (!ok) return kt_yml_fail(y, n, e, "date_of_birth: expected a date YYYY-MM-DD (a day of 1900-2100), got '%s'", t);
+    memcpy(p->dob, t, 11);
+    return KT_OK;
+}
+
+/* The optional identification: id, date_of_birth, surgeon (strings; shown on plan.html). */
+static int parse_ident(kt_yml *y, const yaml_node_t *root, kt_patient *p, kt_err *e)
+{
+    yaml_node_t *n = kt_yml_get(y, root, "id");
+    if (n && kt_yml_string(y, n, "id", p->id, sizeof p->id, e)) return e->code;
+    n = kt_yml_get(y, root, "surgeon");
+    if (n && kt_yml_string(y, n, "surgeon", p->surgeon, sizeof p->surgeon, e)) return e->code;
+    n = kt_yml_get(y, root, "date_of_birth");
+    return n ? parse_dob(y, n, p, e) : KT_OK;
+}
+
 static int parse(kt_yml *y, kt_patient *p, kt_err *e)
 {
     yaml_node_t *root = kt_yml_root(y, e);
     if (!root || kt_yml_check_map(y, root, "patient", TOP_KEYS, e)) return e->code;
     record_marks(y, root, p);
     yaml_node_t *n = kt_yml_get(y, root, "name");
-    if (n && kt_yml_string(y, n, "name", p->name, sizeof p->name, e)) return e->code;
+    if ((n && kt_yml_string(y, n, "name", p->name, sizeof p->name, e)) || parse_ident(y, root, p, e)) return e->code;
     if (!kt_yml_require(y, root, "eye", "patient", e) || !kt_yml_require(y, root, "age", "patient", e) ||
         !kt_yml_require(y, root, "cornea", "patient", e))
         return e->code;
     if (kt_yml_key_choice(y, root, "patient", "eye", EYES, &p->eye, e) ||
-        kt_yml_key_quantity(y, root, "patient", "age", KT_UNIT_NONE, range(18, 110, 0, 0), &p->age, e) ||
-        kt_yml_key_quantity(y, root, "patient", "iop", KT_UNIT_PRESSURE, range(5 * MMHG, 60 * MMHG, 0, 0), &p->iop, e) ||
+        kt_yml_key_quantity(y, root, "patient", "age", KT_UNIT_NONE, range(KT_PATIENT_AGE_MIN, KT_PATIENT_AGE_MAX, 0, 0), &p->age, e) ||
+        kt_yml_key_quantity(y, root, "patient", "iop", KT_UNIT_PRESSURE, range(5 * KT_MMHG_MPA, 60 * KT_MMHG_MPA, 0, 0), &p->iop, e) ||
         parse_cornea(y, kt_yml_get(y, root, "cornea"), p, e) || parse_rest(y, root, p, e))
         return e->code;
     return check(y, root, p, e);

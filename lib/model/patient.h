@@ -34,6 +34,13 @@ enum { KT_ARCS_EITHER = 0, KT_ARCS_SINGLE, KT_ARCS_PAIRED };
 #define KT_PATIENT_POST_AXIS 90.0     /* deg, posterior steep meridian vertical, Koch et al. 2012 */
 #define KT_PATIENT_N_POST 40.0        /* D mm: 1000 (1.376 - 1.336), posterior surface power */
 #define KT_PATIENT_DEPTH_MAX 0.9      /* deepest blade setting, fraction of the pachymetry */
+/* What the patient file accepts (keratome-patient(5)); lri-nomogram(1) accepts the same. An
+ * axis lies in [0, 180] deg, 180 read as 0 (TABO). */
+#define KT_PATIENT_AGE_MIN 18.0       /* years: adult eyes; the age rule's range */
+#define KT_PATIENT_AGE_MAX 110.0
+#define KT_PATIENT_K_MIN 20.0         /* D, anterior keratometry */
+#define KT_PATIENT_K_MAX 70.0
+#define KT_PATIENT_SIA_MAX 5.0        /* D, the surgeon's SIA magnitude */
 #define KT_PATIENT_ZONE 10.5          /* mm, the incision zone, peripheral clear cornea (Nichamin
                                          2006); at most white_to_white - 1 mm when not given */
 
@@ -56,6 +63,9 @@ typedef struct kt_patient {
     char path[1024], dir[1024];
     int mark[KT_PF_N][2];       /* line and column of each KT_PF_* field in the file; 0 0: absent */
     char name[KT_NAME_MAX];
+    char id[KT_NAME_MAX];       /* the patient's identifier; "" when not given */
+    char dob[11];               /* date of birth, YYYY-MM-DD; "" when not given */
+    char surgeon[KT_NAME_MAX];  /* "" when not given */
     int eye;                    /* KT_EYE_OD or KT_EYE_OS */
     double age;                 /* years */
     double iop;                 /* MPa */
@@ -64,7 +74,8 @@ typedef struct kt_patient {
                                    resolved against the patient file's folder */
     double t_central;           /* central pachymetry, mm */
     double t_zone;              /* pachymetry at the incision zone, mm; NAN: from the model */
-    double wtw;                 /* white-to-white, mm */
+    double wtw;                 /* white-to-white, mm: horizontal */
+    double wtw_v;               /* vertical white-to-white, mm (at most wtw) */
     int main_present;           /* a main incision is given */
     double main_meridian;       /* its site, deg TABO, 0 <= m < 360 */
     double main_width;          /* mm */
@@ -141,6 +152,12 @@ double kt_patient_site(int eye, const char *name);
  * depth, the cornea and limbus moduli scaled by the age rule (keratome-patient(5)), and the
  * ordering centred on the steep meridian. KT_EINPUT when the values do not make an eye. */
 int kt_patient_scene(const kt_patient *p, const kt_scene *base, kt_scene *s, kt_err *e);
+
+/* The chord (mm, seen from the front) of an arc centred on `centre` of `arc` degrees at the
+ * patient's incision zone: on the zone's curve of the patient's eye (kt_eye_oval_radius: the
+ * zone follows the oval cornea), with the default eye's optical zone and limbus; NAN when the
+ * values do not make an eye. */
+double kt_patient_zone_chord(const kt_patient *p, double centre, double arc);
 
 /* The age rule's stiffness factor: 1 + 0.075 (age - 60) / 10 (plans/studies/nomogram). */
 double kt_patient_age_factor(double age);

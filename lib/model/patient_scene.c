@@ -57,6 +57,7 @@ int kt_patient_scene(const kt_patient *p, const kt_scene *base, kt_scene *s, kt_
     eye->r_post = 2 / (1 / post.r_steep + 1 / post.r_flat);
     eye->t_central = p->t_central;
     eye->wtw = p->wtw;
+    eye->wtw_v = p->wtw_v;
     eye->nring = 1;
     kt_ring *ring = &eye->ring[0];
     memset(ring, 0, sizeof *ring);

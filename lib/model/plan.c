@@ -145,6 +145,60 @@ static void ring_names(const kt_eye *eye, char *buf, size_t size)
     if (!buf[0]) snprintf(buf, size, "none");
 }
 
+/* The ring of incision inc: the one its surface names (by_surface), else the one at its
+ * diameter, if any (inc->surface, inc->diameter set). 1 with msg ".surface: ..." or
+ * ".diameter: ..." (after the position's name) when it names none or cuts the optical zone. */
+static int resolve_ring(const kt_eye *eye, kt_incision *inc, int by_surface, char *msg, size_t size)
+{
+    if (by_surface) {
+        int r = find_ring(eye, inc->surface, 0);
+        if (r < 0) {
+            char names[600];
+            ring_names(eye, names, sizeof names);
+            snprintf(msg, size, ".surface: expected an incision ring of the scene (%s), found '%s'", names, inc->surface);
+            return 1;
+        }
+        inc->diameter = eye->ring[r].diameter;
+        return 0;
+    }
+    if (!(inc->diameter > eye->optical_zone)) { /* a cut across the visual axis zone */
+        snprintf(msg, size, ".diameter: expected a diameter outside the eye's optical zone (> eye.optical_zone = %g mm; "
+                 "limbal relaxing incisions lie in the peripheral cornea), found %g mm", eye->optical_zone, inc->diameter);
+        return 1;
+    }
+    int r = find_ring(eye, NULL, inc->diameter);
+    if (r >= 0) snprintf(inc->surface, sizeof inc->surface, "%s", eye->ring[r].name);
+    return 0;
+}
+
+/* The depth of inc from its length (by_fraction 0) or its fraction of the local thickness:
+ * within the tissue and the ring. 1 with msg ".depth: ..." otherwise. */
+static int resolve_depth(const kt_eye *eye, kt_incision *inc, int by_fraction, char *msg, size_t size)
+{
+    double t = kt_eye_thickness(eye, 0.5 * inc->diameter);
+    if (!(t > 0)) {
+        snprintf(msg, size, ".depth: no corneal thickness at %g mm from the axis", 0.5 * inc->diameter);
+        return 1;
+    }
+    if (!by_fraction && inc->depth >= t) {
+        snprintf(msg, size, ".depth: expected less than the local thickness (%.3f mm at diameter %g mm), found %.3f mm",
+                 t, inc->diameter, inc->depth);
+        return 1;
+    }
+    if (by_fraction) inc->depth = inc->depth_fraction * t;
+    int r = inc->surface[0] ? find_ring(eye, inc->surface, 0) : -1;
+    if (r >= 0) {
+        const kt_ring *ring = &eye->ring[r];
+        double rd = ring->depth_fraction > 0 ? ring->depth_fraction * t : ring->depth;
+        if (inc->depth > rd + 1e-6) {
+            snprintf(msg, size, ".depth: expected at most the depth of incision-ready surface '%s' (%.3f mm), found %.3f mm",
+                     ring->name, rd, inc->depth);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 static int parse_position(kt_yml *y, const yaml_node_t *n, const char *what, const kt_eye *eye,
                           kt_incision *inc, kt_err *e)
 {
@@ -152,29 +206,16 @@ static int parse_position(kt_yml *y, const yaml_node_t *n, const char *what, con
     yaml_node_t *v = one_of(y, n, what, "diameter", "surface", 1, e);
     if (!v) return e->code;
     inc->at_position = mark_of(v);
-    char names[600];
-    ring_names(eye, names, sizeof names);
-    if (kt_yml_get(y, n, "surface")) {
-        if (kt_yml_key_string(y, n, what, "surface", inc->surface, sizeof inc->surface, e))
+    int by_surface = kt_yml_get(y, n, "surface") != NULL;
+    if (by_surface) {
+        if (kt_yml_key_string(y, n, what, "surface", inc->surface, sizeof inc->surface, e)) return e->code;
+    } else {
+        double rmax = eye->wtw + 2 * eye->limbus_width;
+        if (kt_yml_key_quantity(y, n, what, "diameter", KT_UNIT_LENGTH, (kt_yml_bounds){0, rmax, 1, 1}, &inc->diameter, e))
             return e->code;
-        int r = find_ring(eye, inc->surface, 0);
-        if (r < 0)
-            return kt_yml_fail(y, v, e, "%s.surface: expected an incision ring of the scene (%s), "
-                               "found '%s'", what, names, inc->surface);
-        inc->diameter = eye->ring[r].diameter;
-        return KT_OK;
     }
-    double rmax = eye->wtw + 2 * eye->limbus_width;
-    if (kt_yml_key_quantity(y, n, what, "diameter", KT_UNIT_LENGTH,
-                            (kt_yml_bounds){0, rmax, 1, 1}, &inc->diameter, e))
-        return e->code;
-    if (!(inc->diameter > eye->optical_zone)) /* a cut across the visual axis zone */
-        return kt_yml_fail(y, kt_yml_get(y, n, "diameter"), e, "%s.diameter: expected a diameter "
-                           "outside the eye's optical zone (> eye.optical_zone = %g mm; limbal "
-                           "relaxing incisions lie in the peripheral cornea), found %g mm", what,
-                           eye->optical_zone, inc->diameter);
-    int r = find_ring(eye, NULL, inc->diameter);
-    if (r >= 0) snprintf(inc->surface, sizeof inc->surface, "%s", eye->ring[r].name);
+    char msg[800];
+    if (resolve_ring(eye, inc, by_surface, msg, sizeof msg)) return kt_yml_fail(y, v, e, "%s%s", what, msg);
     return KT_OK;
 }
 
@@ -187,29 +228,13 @@ static int parse_depth(kt_yml *y, const yaml_node_t *n, const char *what, const 
     yaml_node_t *v = one_of(y, n, w, "depth", "depth_fraction", 1, e);
     if (!v) return e->code;
     inc->at_depth = mark_of(v);
-    double t = kt_eye_thickness(eye, 0.5 * inc->diameter);
-    if (!(t > 0)) return kt_yml_fail(y, v, e, "%s: no corneal thickness at %g mm from the axis",
-                                     w, 0.5 * inc->diameter);
-    if (kt_yml_get(y, n, "depth")) {
-        if (kt_yml_key_quantity(y, n, what, "depth", KT_UNIT_LENGTH, kt_scene_range(0, 5, 1, 0), &inc->depth, e))
-            return e->code;
-        if (inc->depth >= t)
-            return kt_yml_fail(y, v, e, "%s.depth: expected less than the local thickness (%.3f mm "
-                               "at diameter %g mm), found %.3f mm", what, t, inc->diameter, inc->depth);
-    } else {
-        if (kt_yml_key_number(y, n, what, "depth_fraction", (kt_yml_bounds){0, 1, 1, 1},
-                              &inc->depth_fraction, e))
-            return e->code;
-        inc->depth = inc->depth_fraction * t;
-    }
-    int r = inc->surface[0] ? find_ring(eye, inc->surface, 0) : -1;
-    if (r >= 0) {
-        const kt_ring *ring = &eye->ring[r];
-        double rd = ring->depth_fraction > 0 ? ring->depth_fraction * t : ring->depth;
-        if (inc->depth > rd + 1e-6)
-            return kt_yml_fail(y, v, e, "%s: expected at most the depth of incision-ready surface "
-                               "'%s' (%.3f mm), found %.3f mm", w, ring->name, rd, inc->depth);
-    }
+    int by_fraction = kt_yml_get(y, n, "depth") == NULL;
+    if (!by_fraction && kt_yml_key_quantity(y, n, what, "depth", KT_UNIT_LENGTH, kt_scene_range(0, 5, 1, 0), &inc->depth, e))
+        return e->code;
+    if (by_fraction && kt_yml_key_number(y, n, what, "depth_fraction", (kt_yml_bounds){0, 1, 1, 1}, &inc->depth_fraction, e))
+        return e->code;
+    char msg[400];
+    if (resolve_depth(eye, inc, by_fraction, msg, sizeof msg)) return kt_yml_fail(y, v, e, "%s%s", what, msg);
     return KT_OK;
 }
 
@@ -454,6 +479,51 @@ int kt_plan_load(const char *path, kt_plan *p, kt_err *e)
     if (root) parse_plan(&y, root, p, e);
     kt_yml_free(&y);
     return e->code;
+}
+
+/* ---- in memory ---- */
+
+void kt_plan_init(kt_plan *p, const kt_scene *s, const char *name)
+{
+    memset(p, 0, sizeof *p);
+    snprintf(p->path, sizeof p->path, "%s", name);
+    snprintf(p->scene_path, sizeof p->scene_path, "%s", s->path);
+    p->scene = *s;
+    p->prog.degrees_per_step = DEFAULT_DEGREES_PER_STEP;
+    p->snap.fraction = DEFAULT_SNAP_FRACTION;
+    p->snap.min_quality = DEFAULT_MIN_QUALITY;
+}
+
+int kt_plan_add_incision(kt_plan *p, const kt_incision *in, kt_err *e)
+{
+    if (p->ninc == KT_PLAN_MAX) return kt_fail(e, KT_EINPUT, "%s: expected at most %d incisions", p->path, KT_PLAN_MAX);
+    if (p->scene.model != KT_MODEL_EYE) return kt_fail(e, KT_EINPUT, "%s: incisions: expected an eye scene", p->path);
+    kt_incision *inc = &p->inc[p->ninc];
+    *inc = *in;
+    char msg[800];
+    if (!(inc->arc > 0 && inc->arc <= (inc->paired ? 180 : 360)) || !(inc->meridian >= 0 && inc->meridian < 360) ||
+        !(inc->arc_opposite >= 0 && inc->arc_opposite <= 180) || !(inc->prog.degrees_per_step > 0 || inc->prog.nodes_per_step > 0))
+        return kt_fail(e, KT_EINPUT, "%s: incisions[%d]: expected a meridian in [0, 360) deg, an arc in (0, %d] deg, a "
+                       "progression", p->path, p->ninc, inc->paired ? 180 : 360);
+    if (resolve_ring(&p->scene.eye, inc, inc->surface[0] != '\0', msg, sizeof msg) ||
+        resolve_depth(&p->scene.eye, inc, inc->depth_fraction > 0, msg, sizeof msg))
+        return kt_fail(e, KT_EINPUT, "%s: incisions[%d]%s", p->path, p->ninc, msg);
+    p->ninc++;
+    return check_arc_steps(p, e);
+}
+
+int kt_plan_add_tunnel(kt_plan *p, const kt_tunnel *t, kt_err *e)
+{
+    if (p->ntunnel == KT_PLAN_MAX) return kt_fail(e, KT_EINPUT, "%s: expected at most %d tunnels", p->path, KT_PLAN_MAX);
+    kt_tunnel *d = &p->tunnel[p->ntunnel];
+    *d = *t;
+    const char *field;
+    char msg[400];
+    if (!(d->steps >= 1 && d->steps <= 100)) return kt_fail(e, KT_EINPUT, "%s: tunnels[%d].steps: expected 1 to 100", p->path, p->ntunnel);
+    if (kt_tunnel_derive(&p->scene.eye, d, &field, msg, sizeof msg))
+        return kt_fail(e, KT_EINPUT, "%s: tunnels[%d].%s: %s", p->path, p->ntunnel, field, msg);
+    p->ntunnel++;
+    return KT_OK;
 }
 
 /* ---- against the mesh ---- */

@@ -133,6 +133,18 @@ typedef struct kt_plan {
  * thickness or the incision-ready surface, missing scene) is KT_EINPUT "file:line:col: ...". */
 int kt_plan_load(const char *path, kt_plan *p, kt_err *e);
 
+/* Plans built in memory (lri-plan's families), resolved and checked as the reader resolves a
+ * plan file. kt_plan_init: p := no cut yet on a copy of scene s (its path names it), named
+ * `name` (p->path: for messages), with keratome-plan(5)'s defaults (5 deg per step, snapping).
+ * kt_plan_add_incision: in's meridian, arc, paired, arc_opposite, direction, prog, the ring by
+ * surface (set) or diameter, the depth as depth_fraction (> 0) or depth: the ring and the
+ * depth resolved as incisions[] are; KT_EINPUT "name: incisions[i].depth: expected ..."
+ * otherwise, or beyond KT_PLAN_MAX_STEPS. kt_plan_add_tunnel: t's meridian, width, length,
+ * entry_diameter, steps, its plane derived (kt_tunnel_derive); KT_EINPUT naming the field. */
+void kt_plan_init(kt_plan *p, const kt_scene *s, const char *name);
+int kt_plan_add_incision(kt_plan *p, const kt_incision *in, kt_err *e);
+int kt_plan_add_tunnel(kt_plan *p, const kt_tunnel *t, kt_err *e);
+
 /* Check tunnel t (meridian, width, length, entry_diameter set) against the eye and derive its
  * plane (entry, exit, along, across, normal). KT_EINPUT with the offending field's name in
  * *field and "expected ..." in msg when the entry is not on the peripheral cornea or the

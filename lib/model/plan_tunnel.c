@@ -48,6 +48,9 @@ int kt_tunnel_derive(const kt_eye *eye, kt_tunnel *t, const char **field, char *
                  optical, 2 * g->rL, t->entry_diameter);
         return KT_EINPUT;
     }
+    /* On an oval cornea the entry lies as far inside (or outside) the corneal edge in its
+     * meridian as entry_diameter / 2 lies from the horizontal edge (keratome-plan(5)). */
+    re = kt_eye_geom_oval_rho(g, re, em[0], em[1]);
     double ze = kt_eye_geom_outer_z(g, re * em[0], re * em[1]);
     /* The internal opening: reach() falls from its value at the axis to the one at the
      * posterior surface's edge; bisection for reach = length. */

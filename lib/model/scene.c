@@ -1,5 +1,6 @@
 /* scene.c: load and validate a scene YAML file (see man/man5/keratome-scene.5). */
 #include "scene.h"
+#include "units.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -82,9 +83,8 @@ kt_yml_bounds kt_scene_range(double lo, double hi, int lo_open, int hi_open)
 #define KT_SCENE_DISPLACEMENT kt_scene_range(-1e3, 1e3, 0, 0)
 /* An intraocular pressure, 1 to 100 mmHg (physiological 10-21 mmHg; acute glaucoma reaches
  * 60-80); any other model's pressure at most 1 GPa either way. */
-#define KT_SCENE_IOP kt_scene_range(1 * KT_MMHG, 100 * KT_MMHG, 0, 0)
+#define KT_SCENE_IOP kt_scene_range(1 * KT_MMHG_MPA, 100 * KT_MMHG_MPA, 0, 0)
 #define KT_SCENE_PRESSURE kt_scene_range(-1e3, 1e3, 0, 0)
-#define KT_MMHG 133.322387415e-6
 
 /* ---- box and CGAL models ---------------------------------------------------------------- */
 
@@ -508,7 +508,7 @@ static void model_defaults(yaml_node_t *materials, yaml_node_t *loads, yaml_node
         /* Mean intraocular pressure 15 mmHg (Klein et al. 1992), on the inner surface. */
         s->npressure = 1;
         snprintf(s->pressure[0].surface, KT_NAME_MAX, "inner");
-        s->pressure[0].p = 15 * 133.322387415e-6;
+        s->pressure[0].p = 15 * KT_MMHG_MPA;
     }
     int has_fixed = eye ? s->eye.extent < 180 : s->model == KT_MODEL_BOX && s->box.fixed_face >= 0;
     if (!fixation && has_fixed) {

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "eye.h"
 #include "scene_int.h"
 
 
@@ -19,6 +20,7 @@ void kt_scene_eye_defaults(kt_eye *eye)
     eye->t_central = 0.54;                    /* Doughty & Zaman 2000 */
     eye->t_peripheral = 0.67;                 /* Martola & Baum 1968 */
     eye->wtw = 11.7;                          /* Rufer et al. 2005 */
+    eye->wtw_v = 10.6;                        /* 11.7 - KT_EYE_WTW_DIFF: vertical 10.63 mm */
     eye->limbus_width = 1.0;                  /* Van Buskirk 1989: about 1-1.5 mm */
     eye->sclera_thickness = 0.53;             /* Olsen et al. 1998, at the limbus */
     eye->globe_radius = 12.0;                 /* axial length about 24 mm */
@@ -33,6 +35,33 @@ void kt_scene_eye_defaults(kt_eye *eye)
 }
 
 /* ---- eye ------------------------------------------------------------------------------- */
+
+int kt_scene_parse_wtw(kt_yml *y, const yaml_node_t *map, const char *what, kt_yml_bounds bh, kt_yml_bounds bv,
+                       double *h, double *v, kt_err *e)
+{
+    static const char *const KEYS[] = {"horizontal", "vertical", NULL};
+    yaml_node_t *n = kt_yml_get(y, map, "white_to_white");
+    if (!n) return KT_OK;
+    char w[64];
+    snprintf(w, sizeof w, "%s.white_to_white", what);
+    double hv = *h, vv;
+    if (n->type != YAML_MAPPING_NODE) {
+        if (kt_yml_quantity(y, n, w, KT_UNIT_LENGTH, bh, &hv, e)) return e->code;
+        *h = hv, *v = hv - KT_EYE_WTW_DIFF;
+        return KT_OK;
+    }
+    if (kt_yml_check_map(y, n, w, KEYS, e) ||
+        kt_yml_key_quantity(y, n, w, "horizontal", KT_UNIT_LENGTH, bh, &hv, e))
+        return e->code;
+    vv = hv - KT_EYE_WTW_DIFF;
+    yaml_node_t *vn = kt_yml_get(y, n, "vertical");
+    if (kt_yml_key_quantity(y, n, w, "vertical", KT_UNIT_LENGTH, bv, &vv, e)) return e->code;
+    if (vv > hv)
+        return kt_yml_fail(y, vn, e, "%s.vertical: expected at most the horizontal diameter (%g mm): the cornea is "
+                           "horizontally oval, got %g mm", w, hv, vv);
+    *h = hv, *v = vv;
+    return KT_OK;
+}
 
 static const char *const RING_KEYS[] = {"name", "diameter", "depth", "depth_fraction", NULL};
 
@@ -118,7 +147,7 @@ static const char *const EYE_KEYS[] = {
     "posterior_radius", "posterior_radius_steep", "posterior_radius_flat", "posterior_steep_axis",
     "central_thickness", "peripheral_thickness", "white_to_white",
     "limbus_width", "sclera_thickness", "globe_radius", "extent", "optical_zone", "mesh_size",
-    "incision_rings", "fibres", NULL};
+    "incision_rings", "fibres", "anterior_departure", "posterior_departure", NULL};
 static const char *const FIBRE_KEYS[] = {"limbal_band", "limbal_density", NULL};
 
 /* Geometric consistency between fields; messages point at the field that breaks it. */
@@ -156,6 +185,14 @@ static int check_eye(kt_yml *y, const yaml_node_t *n, const kt_eye *eye, kt_err 
         at = kt_yml_get(y, n, "optical_zone");
         return kt_yml_fail(y, at ? at : n, e, "eye.optical_zone: expected a diameter inside the clear cornea (<= white_to_white - limbus_width = %g mm), got %g mm",
                            clear, eye->optical_zone);
+    }
+    double vmin = kt_eye_wtw_v_min(eye);
+    if (eye->wtw_v < vmin) {
+        at = kt_yml_get(y, n, "white_to_white");
+        if (at && kt_yml_get(y, at, "vertical")) at = kt_yml_get(y, at, "vertical");
+        return kt_yml_fail(y, at ? at : n, e, "eye.white_to_white.vertical: expected at least %g mm (the horizontal %g mm "
+                           "less 1.6 x (white_to_white - limbus_width - optical_zone) / 2: the oval warp's room between "
+                           "the optical zone and the outermost ring), got %g mm", vmin, eye->wtw, eye->wtw_v);
     }
     yaml_node_t *rings = kt_yml_get(y, n, "incision_rings");
     double t_max = fmax(eye->t_central, eye->t_peripheral);
@@ -202,6 +239,42 @@ static int parse_posterior(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err 
     return KT_OK;
 }
 
+static const char *const DEP_KEYS[] = {"zernike_order", "radius", "taper", "coefficients", NULL};
+static const char *const DEP_ANT_KEYS[] = {"asphericity", "zernike_order", "radius", "taper", "coefficients", NULL};
+
+/* A measured surface's departure (eye_depart.h): the anterior base's asphericity (anterior
+ * only), a Zernike expansion of zernike_order over the zone of `radius` about the axis, tapered
+ * to 0 at `taper` (at most the corneal edge's radius white_to_white / 2; the posterior's end is
+ * checked against the geometry when meshing). */
+static int parse_departure(kt_yml *y, const yaml_node_t *n, const char *w, kt_eye *eye, kt_eye_departure *d,
+                           kt_err *e)
+{
+    int ant = d == &eye->dep_ant;
+    if (kt_yml_check_map(y, n, w, ant ? DEP_ANT_KEYS : DEP_KEYS, e) ||
+        kt_yml_key_number(y, n, w, "asphericity", kt_scene_range(-1, 1, 1, 0), &d->conic, e) ||
+        !kt_yml_require(y, n, "zernike_order", w, e) ||
+        !kt_yml_require(y, n, "radius", w, e) || !kt_yml_require(y, n, "taper", w, e) ||
+        !kt_yml_require(y, n, "coefficients", w, e) ||
+        kt_yml_key_int(y, n, w, "zernike_order", 2, KT_ZERN_ORDER_MAX, &d->order, e) ||
+        kt_yml_key_quantity(y, n, w, "radius", KT_UNIT_LENGTH, kt_scene_range(0.5, 7, 0, 0), &d->radius, e) ||
+        kt_yml_key_quantity(y, n, w, "taper", KT_UNIT_LENGTH, kt_scene_range(0.5, 15, 0, 0), &d->taper, e))
+        return e->code;
+    if (!(d->taper > d->radius && d->taper <= 0.5 * eye->wtw))
+        return kt_yml_fail(y, kt_yml_get(y, n, "taper"), e, "%s.taper: expected more than radius (%g mm) and at most "
+                           "the corneal edge's radius white_to_white / 2 (%g mm), got %g mm", w, d->radius,
+                           0.5 * eye->wtw, d->taper);
+    char what[128];
+    int nt = kt_zern_nterms(d->order);
+    snprintf(what, sizeof what, "%s.coefficients (zernike_order %d)", w, d->order);
+    yaml_node_t *c = kt_yml_get(y, n, "coefficients");
+    if (kt_yml_check_seq(y, c, what, nt, nt, e)) return e->code;
+    for (int j = 0; j < nt; j++)
+        if (kt_yml_quantity(y, kt_yml_seq_item(y, c, j), what, KT_UNIT_LENGTH, kt_scene_range(-1, 1, 0, 0), &d->coef[j],
+                            e))
+            return e->code;
+    return KT_OK;
+}
+
 int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
 {
     const char *w = "eye";
@@ -218,7 +291,7 @@ int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
         kt_yml_key_quantity(y, n, w, "steep_axis", KT_UNIT_ANGLE, kt_scene_range(0, 180, 0, 0), &eye->steep_axis, e) ||
         kt_yml_key_quantity(y, n, w, "central_thickness", KT_UNIT_LENGTH, thick, &eye->t_central, e) ||
         kt_yml_key_quantity(y, n, w, "peripheral_thickness", KT_UNIT_LENGTH, thick, &eye->t_peripheral, e) ||
-        kt_yml_key_quantity(y, n, w, "white_to_white", KT_UNIT_LENGTH, kt_scene_range(2, 30, 0, 0), &eye->wtw, e) ||
+        kt_scene_parse_wtw(y, n, w, kt_scene_range(2, 30, 0, 0), kt_scene_range(2, 30, 0, 0), &eye->wtw, &eye->wtw_v, e) ||
         kt_yml_key_quantity(y, n, w, "limbus_width", KT_UNIT_LENGTH, kt_scene_range(0, 10, 1, 0), &eye->limbus_width, e) ||
         kt_yml_key_quantity(y, n, w, "sclera_thickness", KT_UNIT_LENGTH, thick, &eye->sclera_thickness, e) ||
         kt_yml_key_quantity(y, n, w, "globe_radius", KT_UNIT_LENGTH, radius, &eye->globe_radius, e) ||
@@ -240,6 +313,12 @@ int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
     yaml_node_t *v;
     if ((v = kt_yml_get(y, n, "mesh_size")) && parse_sizes(y, v, eye, e)) return e->code;
     if ((v = kt_yml_get(y, n, "incision_rings")) && parse_rings(y, v, eye, e)) return e->code;
+    if ((v = kt_yml_get(y, n, "anterior_departure")) &&
+        parse_departure(y, v, "eye.anterior_departure", eye, &eye->dep_ant, e))
+        return e->code;
+    if ((v = kt_yml_get(y, n, "posterior_departure")) &&
+        parse_departure(y, v, "eye.posterior_departure", eye, &eye->dep_post, e))
+        return e->code;
     return check_eye(y, n, eye, e);
 }
 

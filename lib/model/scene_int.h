@@ -19,6 +19,14 @@ kt_yml_bounds kt_scene_range(double lo, double hi, int lo_open, int hi_open);
 void kt_scene_eye_defaults(kt_eye *eye);
 int kt_scene_parse_eye(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e);
 
+/* The white-to-white of `map` (an eye block or a patient's cornea; keratome-scene(5)): a length,
+ * the horizontal diameter (the vertical one KT_EYE_WTW_DIFF less), or {horizontal, vertical},
+ * a key left out taking its default (horizontal: *h unchanged; vertical: the horizontal less
+ * KT_EYE_WTW_DIFF). Within bh and bv; the vertical at most the horizontal. Absent: *h and *v
+ * unchanged. Bad input: KT_EINPUT at file:line:col. */
+int kt_scene_parse_wtw(kt_yml *y, const yaml_node_t *map, const char *what, kt_yml_bounds bh, kt_yml_bounds bv,
+                       double *h, double *v, kt_err *e);
+
 /* The uncertainty section (scene_unc.c): defaults, then the entries of node n over them. */
 void kt_scene_unc_defaults(kt_uncertainty *u);
 int kt_scene_parse_uncertainty(kt_yml *y, const yaml_node_t *n, kt_uncertainty *u, kt_err *e);

@@ -19,10 +19,9 @@
  *     50 um is a stated assumption (about 10% of a 500-600 um cut), to be replaced by a measured
  *     one.
  *   age_slope 0.05 per decade: +0.30 +- 0.21 MPa per decade on 4.0 MPa (Li et al. 2024).
- *   heal 0.5: the natural logarithm of the healed wound's bridge stiffness (wound:), so a factor
- *     e^0.5 = 1.65 either way: provisional, a stated assumption of the healing variability
- *     (the spread of keratotomy outcomes between eyes, PERK 1987), to be replaced by the
- *     identification study (plans/studies/calibrate). */
+ *   heal 0.36: the natural logarithm of the healed wound's bridge stiffness (wound:): the
+ *     posterior sd of ln k60 identified by plans/studies/calibrate (docs/validation.md), a
+ *     factor 1.43 either way. The eye-to-eye spread of the outcome is uncertainty.nontissue_cv. */
 static const struct {
     const char *name, *unit, *source;
     double sd;
@@ -34,7 +33,7 @@ static const struct {
     {"thickness", "um", "marsich2000", 8.0},
     {"depth", "um", "unterman1984", 50.0},
     {"age_slope", "1/decade", "li2024", 0.05},
-    {"heal", "1", "provisional", 0.5},
+    {"heal", "1", "calibrate2026", 0.36},
 };
 
 const char *kt_uq_name(int q) { return q >= 0 && q < KT_UQ_N ? UQ[q].name : "?"; }
@@ -49,6 +48,7 @@ void kt_scene_unc_defaults(kt_uncertainty *u)
         u->dist[q] = KT_UQ_NORMAL;
     }
     u->age = NAN;
+    u->nontissue_cv = KT_UQ_NONTISSUE_CV;
 }
 
 static const char *const ENTRY_KEYS[] = {"sd", "distribution", "age", NULL};
@@ -56,10 +56,12 @@ static const char *const DISTS[] = {"normal", "uniform", NULL};
 
 int kt_scene_parse_uncertainty(kt_yml *y, const yaml_node_t *n, kt_uncertainty *u, kt_err *e)
 {
-    const char *keys[KT_UQ_N + 1];
+    const char *keys[KT_UQ_N + 2];
     for (int q = 0; q < KT_UQ_N; q++) keys[q] = UQ[q].name;
-    keys[KT_UQ_N] = NULL;
-    if (kt_yml_check_map(y, n, "uncertainty", keys, e)) return e->code;
+    keys[KT_UQ_N] = "nontissue_cv", keys[KT_UQ_N + 1] = NULL;
+    if (kt_yml_check_map(y, n, "uncertainty", keys, e) ||
+        kt_yml_key_number(y, n, "uncertainty", "nontissue_cv", kt_scene_range(0, 5, 0, 0), &u->nontissue_cv, e))
+        return e->code;
     for (int q = 0; q < KT_UQ_N; q++) {
         yaml_node_t *v = kt_yml_get(y, n, UQ[q].name);
         if (!v) continue;

@@ -1,12 +1,55 @@
 /* scene_write.c: an eye scene as YAML, every field explicit (%.17g: read back exactly). */
 #include "scene_write.h"
+#include "yml.h"
 
 #include "scene_int.h"
 
 #include <math.h>
 
+#include "yml.h"
+
 static const char *const ORDER_NAMES[] = {"amd", "metis", "constrained", "natural", "metis-last"};
 static const char *const REF_NAMES[] = {"loaded", "unloaded", "prestressed"};
+
+/* A length c (mm) in um, in the fewest digits (15 to 17) that read back (kt_yml_parse_quantity)
+ * as c exactly, trying the nearest doubles to 1000 c; in mm (%.17g: exact) when none does. */
+static void write_um(FILE *f, double c)
+{
+    char buf[64];
+    for (int k = 0; k < 9; k++) {
+        double u = c * 1e3;
+        for (int s = 0; s < (k + 1) / 2; s++) u = nextafter(u, k % 2 ? INFINITY : -INFINITY);
+        for (int p = 15; p <= 17; p++) {
+            double back;
+            snprintf(buf, sizeof buf, "%.*g um", p, u);
+            if (kt_yml_parse_quantity(buf, KT_UNIT_LENGTH, &back) == 0 && back == c) {
+                fputs(buf, f);
+                return;
+            }
+        }
+    }
+    fprintf(f, "%.17g mm", c);
+}
+
+/* A measured surface's departure (eye_depart.h), one radial order a line. */
+static void write_departure(FILE *f, const char *key, const kt_eye_departure *d)
+{
+    if (d->order <= 0) return;
+    fprintf(f, "  %s:\n", key);
+    if (d->conic != 0) fprintf(f, "    asphericity: %.17g\n", d->conic);
+    fprintf(f, "    zernike_order: %d\n    radius: %.17g mm\n    taper: %.17g mm\n", d->order, d->radius, d->taper);
+    fprintf(f, "    # OSA/ANSI j = 0 ... %d, normalized (each the term's RMS over the zone); a line per radial order\n",
+            kt_zern_nterms(d->order) - 1);
+    fprintf(f, "    coefficients: [");
+    for (int n = 0, j = 0; n <= d->order; n++) {
+        fprintf(f, "\n      ");
+        for (int m = 0; m <= n; m++, j++) {
+            write_um(f, d->coef[j]);
+            if (j + 1 < kt_zern_nterms(d->order)) fputs(m < n ? ", " : ",", f);
+        }
+    }
+    fprintf(f, "]\n");
+}
 
 static void write_eye(FILE *f, const kt_eye *y)
 {
@@ -18,7 +61,8 @@ static void write_eye(FILE *f, const kt_eye *y)
                 y->r_post_steep, y->r_post_flat, y->post_axis);
     else fprintf(f, "  posterior_radius: %.17g mm\n", y->r_post);
     fprintf(f, "  central_thickness: %.17g mm\n  peripheral_thickness: %.17g mm\n", y->t_central, y->t_peripheral);
-    fprintf(f, "  white_to_white: %.17g mm\n  limbus_width: %.17g mm\n", y->wtw, y->limbus_width);
+    fprintf(f, "  white_to_white: {horizontal: %.17g mm, vertical: %.17g mm}\n  limbus_width: %.17g mm\n", y->wtw,
+            y->wtw_v == 0 ? y->wtw : y->wtw_v, y->limbus_width);
     fprintf(f, "  sclera_thickness: %.17g mm\n  globe_radius: %.17g mm\n", y->sclera_thickness, y->globe_radius);
     fprintf(f, "  extent: %.17g deg\n  optical_zone: %.17g mm\n", y->extent, y->optical_zone);
     fprintf(f, "  fibres: {limbal_band: %.17g mm, limbal_density: %.17g}\n", y->fibre_band, y->fibre_density);
@@ -35,12 +79,14 @@ static void write_eye(FILE *f, const kt_eye *y)
         if (r->depth_fraction > 0) fprintf(f, "      depth_fraction: %.17g\n", r->depth_fraction);
         else fprintf(f, "      depth: %.17g mm\n", r->depth);
     }
+    write_departure(f, "anterior_departure", &y->dep_ant);
+    write_departure(f, "posterior_departure", &y->dep_post);
 }
 
 int kt_scene_write_eye(FILE *f, const kt_scene *s, const char *header, kt_err *e)
 {
     if (s->model != KT_MODEL_EYE) return kt_fail(e, KT_EINPUT, "scene '%s': only eye scenes are written", s->name);
-    if (header) fprintf(f, "# %s\n", header);
+    if (header) kt_yml_put_comment(f, header);
     fprintf(f, "name: %s\nmodel: eye\norder: %d\n", s->name, s->order);
     write_eye(f, &s->eye);
     fprintf(f, "ordering:\n  method: %s\n", ORDER_NAMES[s->ordering - 1]);
@@ -87,6 +133,10 @@ int kt_scene_write_eye(FILE *f, const kt_scene *s, const char *header, kt_err *e
                 u->dist[q] == KT_UQ_UNIFORM ? ", distribution: uniform" : "");
         if (age) fprintf(f, ", age: %.17g", u->age);
         fprintf(f, "}\n");
+    }
+    if (s->unc.nontissue_cv != KT_UQ_NONTISSUE_CV) {
+        if (!head++) fprintf(f, "uncertainty:\n");
+        fprintf(f, "  nontissue_cv: %.17g\n", s->unc.nontissue_cv);
     }
     kt_scene_write_wound(f, &s->wound);
     if (ferror(f)) return kt_fail(e, KT_ERUN, "writing the scene '%s' failed", s->name);

@@ -12,13 +12,13 @@
 #define KT_CURV_H
 
 #include "mesh.h"
+#include "units.h"
 #include "vtk.h"
+#include "zernike.h"
 
-#define KT_CURV_N_KERATO 337.5   /* 1000 (n - 1), n = 1.3375 keratometric index: D * mm */
-#define KT_CURV_PI 3.14159265358979323846
+#define KT_CURV_N_KERATO KT_N_KERATO /* 1000 (n - 1), n = 1.3375 keratometric index: D * mm */
+#define KT_CURV_PI KT_PI
 #define KT_CURV_DEG (KT_CURV_PI / 180)
-#define KT_ZERN_ORDER_MAX 12
-#define KT_ZERN_TERMS_MAX ((KT_ZERN_ORDER_MAX + 1) * (KT_ZERN_ORDER_MAX + 2) / 2)
 
 /* ---- surface extraction (curv_surf.c) ---- */
 
@@ -42,18 +42,26 @@ int kt_curv_anterior_mask(const kt_mesh *m, const char *what, unsigned char **ma
  * field or an origin out of 1..mesh_nn is KT_EINPUT naming `what`. */
 int kt_curv_extract(const kt_vtk *v, const char *what, const unsigned char *mask, int mesh_nn,
                     kt_surf *s, kt_err *e);
+/* The in-memory entry (no step file): the points of step mesh m with displacement u (3 nn, mm)
+ * whose input-mesh node origin[i] (0-based, < mesh_nn) has mask set: the same n, xyz, disp,
+ * node and origin (1-based) as kt_curv_extract gives from the step's VTK, without the
+ * triangles (ntri 0, tri NULL). A node without a surface node is KT_ERUN. */
+int kt_curv_points(const kt_mesh *m, const double *u, const int *origin, const unsigned char *mask, int mesh_nn,
+                   kt_surf *s, kt_err *e);
 void kt_surf_free(kt_surf *s);
 
 /* ---- fits (curv_fit.c) ---- */
 
-enum { KT_FIT_ZERNIKE = 1, KT_FIT_TORIC };
+enum { KT_FIT_ZERNIKE = 1, KT_FIT_TORIC, KT_FIT_ZERNIKE_AT };
 
 /* A fitted surface z = f(x, y) over a disk of radius a (mm). Zernike: sag expanded in Zernike
  * polynomials (OSA/ANSI order) of (x - xc, y - yc) / a up to `order`, kept as monomials too.
  * Toric: z = z0 - q1 / (1 + sqrt(1 - (1 + conic) q2)) with d = (x - xc, y - yc),
  * q1 = d'Md, q2 = d'M^2 d (a biconic sharing one conic constant; M = diag(1/R1, 1/R2) rotated
  * to the principal axes). The apex (ax, ay), where the surface normal is the axis +z, is the
- * axis of axial power and keratometry; the fit is re-centred there (decentration and tilt). */
+ * axis of axial power and keratometry; the fit is re-centred there (decentration and tilt).
+ * KT_FIT_ZERNIKE_AT: the Zernike fit about (cx, cy) as given, not re-centred (a departure from a
+ * reference surface, which has no apex: lib/optics/surffit.h); ax, ay = cx, cy. */
 typedef struct kt_fit {
     int kind;
     double xc, yc;          /* fit centre, mm */
@@ -86,6 +94,13 @@ double kt_fit_axial_power(const kt_fit *f, double x, double y);
 int kt_curv_sphere_fit(const double *xyz, int n, double c[3], double *radius, kt_err *e);
 
 /* ---- keratometry (curv.c) ---- */
+
+/* Simulated keratometry's defaults (curvature(1): --zone, --fit, --order): a toric fit over the
+ * central 3 mm, the zone of a keratometer's mires; a Zernike fit's order. lri-plan reads its
+ * eyes with the same. */
+#define KT_CURV_ZONE_DEFAULT 3.0
+#define KT_CURV_FIT_DEFAULT KT_FIT_TORIC
+#define KT_CURV_ORDER_DEFAULT 6
 
 #define KT_CURV_NMERID 90   /* meridians sampled over 0..180 deg for the double-angle analysis */
 

@@ -1,5 +1,6 @@
 /* curv_band.c: readings as a vector, their directional derivatives and bands (curv_band.h). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "curv_band.h"
@@ -85,4 +86,44 @@ void kt_band_interval(int r, double v, double sd, double *lo, double *hi)
         if (isnan(sd)) *lo = *hi = NAN;
         else if (!(KT_BAND_Z90 * sd < 90)) *lo = 0, *hi = 180; /* the whole circle */
     }
+}
+
+static double max_abs(const double *d, int n3)
+{
+    double m = 0;
+    for (int i = 0; i < n3; i++) m = fmax(m, fabs(d[i]));
+    return m;
+}
+
+/* The zone fit of xyz + t dudp. */
+static int fit_moved(const kt_band_pts *p, double t, int fit, int order, double zone, double *buf, kt_fit *f,
+                     kt_err *e)
+{
+    for (int i = 0; i < 3 * p->n; i++) buf[i] = p->xyz[i] + t * p->dudp[i];
+    return kt_curv_fit(buf, p->n, fit, order, zone, 0, 0, f, NULL, 0, e);
+}
+
+int kt_band_step_deriv(const kt_band_pts *s0, const kt_band_pts *s, int fit, int order, double zone, double meridian,
+                       const kt_astig *tia, double d[KT_RD_N], double *eps, kt_err *e)
+{
+    memset(d, 0, KT_RD_N * sizeof *d);
+    double m = fmax(max_abs(s0->dudp, 3 * s0->n), max_abs(s->dudp, 3 * s->n));
+    *eps = 0;
+    if (!(m > 0)) return KT_OK; /* the quantity moves neither surface: no change */
+    *eps = KT_BAND_DELTA_MM / m;
+    int nb = s->n > s0->n ? s->n : s0->n;
+    double *buf = kt_calloc((size_t)3 * nb, sizeof(double), e), plus[KT_RD_N], minus[KT_RD_N];
+    kt_fit *f = kt_calloc(4, sizeof(kt_fit), e); /* step 0 +, step 0 -, step +, step - */
+    int rc = buf && f ? KT_OK : e->code;
+    if (rc == KT_OK) rc = fit_moved(s0, *eps, fit, order, zone, buf, f, e);
+    if (rc == KT_OK) rc = fit_moved(s0, -*eps, fit, order, zone, buf, f + 1, e);
+    if (rc == KT_OK) rc = fit_moved(s, *eps, fit, order, zone, buf, f + 2, e);
+    if (rc == KT_OK) rc = fit_moved(s, -*eps, fit, order, zone, buf, f + 3, e);
+    if (rc == KT_OK) {
+        kt_band_readings(f, f + 2, meridian, tia, plus);
+        kt_band_readings(f + 1, f + 3, meridian, tia, minus);
+        kt_band_derivative(plus, minus, *eps, d);
+    }
+    free(buf), free(f);
+    return rc;
 }

@@ -21,13 +21,14 @@
 #define KT_CURV_BAND_H
 
 #include "curv.h"
+#include "units.h"
 
 /* The largest move of an anterior node in the central difference, mm: small against the
  * displacements (tens of um) so the difference is the derivative (the readings change with
  * the surface by a relative 1e-4 over it), large against the fits' round-off (1e-12 mm). */
 #define KT_BAND_DELTA_MM 1e-3
 /* The two-sided 90% quantile of the standard normal distribution. */
-#define KT_BAND_Z90 1.6448536269514722
+#define KT_BAND_Z90 KT_Z90
 
 enum {
     KT_RD_K_STEEP, KT_RD_K_FLAT, KT_RD_AXIS, KT_RD_CYL, KT_RD_K_MEAN, KT_RD_DK_MEAN,
@@ -52,6 +53,21 @@ void kt_band_readings(const kt_fit *fit0, const kt_fit *fit, double meridian, co
 /* dR/dp from the readings at u + eps dudp (plus) and u - eps dudp (minus). */
 void kt_band_derivative(const double plus[KT_RD_N], const double minus[KT_RD_N], double eps,
                         double d[KT_RD_N]);
+
+/* A surface's points (kt_surf's xyz, 3 n, mm) and the derivative of their displacement along
+ * one quantity q (du/dq at the same points, 3 n, mm per unit of q). */
+typedef struct kt_band_pts {
+    int n;
+    const double *xyz, *dudp;
+} kt_band_pts;
+
+/* The kernel of the central difference above, for one quantity: d := dR/dq of every reading
+ * of step s against step 0 (s0), both fitted with (fit, order, zone) as the readings are; *eps
+ * := the step in q's unit (KT_BAND_DELTA_MM over the largest |dudp| of both); a quantity that
+ * moves neither surface gives d = 0 and *eps = 0. A failed fit is its KT_ERUN. What curvature's
+ * bands and lri-plan's readings both call. */
+int kt_band_step_deriv(const kt_band_pts *s0, const kt_band_pts *s, int fit, int order, double zone, double meridian,
+                       const kt_astig *tia, double d[KT_RD_N], double *eps, kt_err *e);
 
 /* sd of every reading from the contributions c[k][r] = dR_r/dp_k sd_k of n quantities. */
 void kt_band_sd(const double *c, int n, double sd[KT_RD_N]);

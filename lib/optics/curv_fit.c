@@ -6,7 +6,7 @@
 
 #include "curv.h"
 
-#define NP (KT_ZERN_ORDER_MAX + 1)
+#define NP KT_ZERN_NP
 
 /* ---------------------------------------------------------------- dense least squares */
 
@@ -52,80 +52,7 @@ static int lsq_solve(double *A, int m, int n, double *b, double *x, kt_err *e)
 
 /* ---------------------------------------------------------------- Zernike polynomials */
 
-static double fact(int n)
-{
-    double f = 1;
-    for (int i = 2; i <= n; i++) f *= i;
-    return f;
-}
-
-static double binom(int n, int k) { return fact(n) / (fact(k) * fact(n - k)); }
-
-/* OSA/ANSI single index j -> (n, m). */
-static void zern_nm(int j, int *n, int *m)
-{
-    int nn = (int)ceil((-3 + sqrt(9 + 8.0 * j)) / 2);
-    *n = nn;
-    *m = 2 * j - nn * (nn + 2);
-}
-
-/* Monomial coefficients (mono[i*NP + k] of u^i v^k) of the normalized Zernike Z_n^m
- * (orthonormal over the unit disk in the mean: N = sqrt((2 - d_m0)(n + 1))). The radial part
- * times cos/sin(|m| t) is rho^(n-2s-|m|) Re/Im (u + iv)^|m|, expanded binomially. */
-static void zern_mono(int n, int m, double *mono)
-{
-    memset(mono, 0, sizeof(double) * NP * NP);
-    int am = abs(m);
-    double norm = sqrt((m == 0 ? 1.0 : 2.0) * (n + 1));
-    for (int s = 0; s <= (n - am) / 2; s++) {
-        double c = (s % 2 ? -1 : 1) * fact(n - s) /
-                   (fact(s) * fact((n + am) / 2 - s) * fact((n - am) / 2 - s));
-        int p = (n - 2 * s - am) / 2;
-        for (int i = 0; i <= p; i++)
-            for (int l = 0; l <= am; l++) {
-                /* (iv)^l: real for even l (m >= 0 keeps them), imaginary for odd l (m < 0) */
-                if ((m >= 0) != (l % 2 == 0)) continue;
-                double sg = ((m >= 0 ? l / 2 : (l - 1) / 2) % 2) ? -1 : 1;
-                int pu = 2 * i + am - l, pv = 2 * (p - i) + l;
-                mono[pu * NP + pv] += norm * c * binom(p, i) * binom(am, l) * sg;
-            }
-    }
-}
-
-/* P(u,v) and its first and second derivatives from monomial coefficients of degree <= N. */
-static void poly_eval(const double *c, int N, double u, double v, double d[6])
-{
-    double pu[NP], pv[NP];
-    pu[0] = pv[0] = 1;
-    for (int i = 1; i <= N; i++) pu[i] = pu[i - 1] * u, pv[i] = pv[i - 1] * v;
-    memset(d, 0, 6 * sizeof(double)); /* P, Pu, Pv, Puu, Puv, Pvv */
-    for (int i = 0; i <= N; i++)
-        for (int k = 0; i + k <= N; k++) {
-            double a = c[i * NP + k];
-            if (a == 0) continue;
-            d[0] += a * pu[i] * pv[k];
-            if (i >= 1) d[1] += a * i * pu[i - 1] * pv[k];
-            if (k >= 1) d[2] += a * k * pu[i] * pv[k - 1];
-            if (i >= 2) d[3] += a * i * (i - 1) * pu[i - 2] * pv[k];
-            if (i >= 1 && k >= 1) d[4] += a * i * k * pu[i - 1] * pv[k - 1];
-            if (k >= 2) d[5] += a * k * (k - 1) * pu[i] * pv[k - 2];
-        }
-}
-
-/* P(u,v) alone, summed as poly_eval sums d[0] (the same value to the bit): the least-squares
- * matrix needs no derivatives. */
-static double poly_value(const double *c, int N, double u, double v)
-{
-    double pu[NP], pv[NP], p = 0;
-    pu[0] = pv[0] = 1;
-    for (int i = 1; i <= N; i++) pu[i] = pu[i - 1] * u, pv[i] = pv[i - 1] * v;
-    for (int i = 0; i <= N; i++)
-        for (int k = 0; i + k <= N; k++) {
-            double a = c[i * NP + k];
-            if (a != 0) p += a * pu[i] * pv[k];
-        }
-    return p;
-}
+/* The polynomials themselves (monomials, evaluation) are lib/core/zernike.h's. */
 
 /* Indices of the points within radius a of (cx, cy). */
 static int zone_points(const double *xyz, int n, double cx, double cy, double a, int *idx)
@@ -152,7 +79,7 @@ static int zernike_once(const double *xyz, const int *idx, int np, kt_fit *f, co
     for (int p = 0; p < np; p++) {
         const double *q = xyz + 3 * idx[p];
         double u = (q[0] - f->xc) / f->a, v = (q[1] - f->yc) / f->a;
-        for (int t = 0; t < nt; t++) A[(size_t)t * np + p] = poly_value(zmono + (size_t)t * NP * NP, f->order, u, v);
+        for (int t = 0; t < nt; t++) A[(size_t)t * np + p] = kt_zern_poly_value(zmono + (size_t)t * NP * NP, f->order, u, v);
         b[p] = q[2];
     }
     int rc = lsq_solve(A, np, nt, b, f->zern, e);
@@ -171,7 +98,7 @@ static int zernike_apex(const kt_fit *f, double *u, double *v)
 {
     double x = 0, y = 0, d[6];
     for (int it = 0; it < 30; it++) {
-        poly_eval(f->poly, f->order, x, y, d);
+        kt_zern_poly_eval(f->poly, f->order, x, y, d);
         double det = d[3] * d[5] - d[4] * d[4];
         if (!(d[3] < 0 && det > 0)) return -1;
         double sx = (d[5] * d[1] - d[4] * d[2]) / det, sy = (d[3] * d[2] - d[4] * d[1]) / det;
@@ -206,12 +133,12 @@ static int fit_zernike(const double *xyz, int n, int *idx, kt_fit *f, char *note
             if (!zmono) return e->code;
             for (int t = 0; t < f->nterms; t++) {
                 int zn, zm;
-                zern_nm(t, &zn, &zm);
-                zern_mono(zn, zm, zmono + (size_t)t * NP * NP);
+                kt_zern_nm(t, &zn, &zm);
+                kt_zern_mono(zn, zm, zmono + (size_t)t * NP * NP);
             }
         }
         f->npts = np;
-        if ((rc = zernike_once(xyz, idx, np, f, zmono, e)) != KT_OK) break;
+        if ((rc = zernike_once(xyz, idx, np, f, zmono, e)) != KT_OK || f->kind == KT_FIT_ZERNIKE_AT) break;
         double u, v;
         if (zernike_apex(f, &u, &v) != 0) {
             f->ax = f->xc, f->ay = f->yc; /* no interior maximum: keep the axis at the centre */
@@ -334,7 +261,7 @@ static int fit_toric(const double *xyz, int n, int *idx, kt_fit *f, kt_err *e)
     int rc = fit_zernike(xyz, n, idx, &z, NULL, 0, e);
     if (rc != KT_OK) return rc;
     double d[6];
-    poly_eval(z.poly, z.order, (z.ax - z.xc) / z.a, (z.ay - z.yc) / z.a, d);
+    kt_zern_poly_eval(z.poly, z.order, (z.ax - z.xc) / z.a, (z.ay - z.yc) / z.a, d);
     double p[TP_N] = {z.ax, z.ay, d[0], -d[3] / (z.a * z.a), -d[4] / (z.a * z.a), -d[5] / (z.a * z.a), 0};
     for (int it = 0; it < 6; it++) {
         int np = zone_points(xyz, n, p[TP_XC], p[TP_YC], f->a, idx);
@@ -367,7 +294,7 @@ void kt_fit_eval(const kt_fit *f, double x, double y, double *z, double *zx, dou
         return;
     }
     double d[6];
-    poly_eval(f->poly, f->order, (x - f->xc) / f->a, (y - f->yc) / f->a, d);
+    kt_zern_poly_eval(f->poly, f->order, (x - f->xc) / f->a, (y - f->yc) / f->a, d);
     *z = d[0], *zx = d[1] / f->a, *zy = d[2] / f->a;
 }
 
@@ -376,7 +303,7 @@ static double apex_mean_curvature(const kt_fit *f)
 {
     if (f->kind == KT_FIT_TORIC) return 0.5 * (f->m11 + f->m22);
     double d[6];
-    poly_eval(f->poly, f->order, (f->ax - f->xc) / f->a, (f->ay - f->yc) / f->a, d);
+    kt_zern_poly_eval(f->poly, f->order, (f->ax - f->xc) / f->a, (f->ay - f->yc) / f->a, d);
     return -0.5 * (d[3] + d[5]) / (f->a * f->a);
 }
 

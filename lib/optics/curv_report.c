@@ -4,47 +4,12 @@
 #include <string.h>
 
 #include "curv_report.h"
+#include "eye.h"
 #include "html.h"
 #include "svg.h"
 
 #define DEG KT_CURV_DEG
 
-static const char CSS[] =
-    KT_HTML_CSS_PAGE
-    ".card b{display:block;font-size:20px}.card span{font-size:12px;color:#5b6670}\n"
-    ".row{display:flex;flex-wrap:wrap;gap:16px}\n"
-    "figure{background:#fff;margin:0;padding:10px 12px;border-radius:8px;box-shadow:0 1px 3px rgba(0,0,0,.12);flex:1 1 420px}\n"
-    "figure img,figure svg{width:100%;height:auto;display:block}\n"
-    "figcaption{font-size:13px;color:#3d4750;margin-top:6px;line-height:1.4}\n"
-    "table{border-collapse:collapse;font-size:13px;background:#fff}td,th{padding:4px 10px;border-bottom:1px solid #e2e6ea;text-align:left}\n"
-    "th{background:#eef1f4}td.n{text-align:right;font-variant-numeric:tabular-nums}\n"
-    "pre{background:#fff;padding:8px;font-size:12px;overflow:auto;border-radius:6px}\n"
-    "svg text{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;fill:#1d232a}\n"
-    ".tick{font-size:11px}.axtitle{font-size:12px}.lbl{font-size:12px}.small{font-size:10px;fill:#5b6670}\n"
-    ".grid{stroke:#e4e7eb;stroke-width:1}.zero{stroke:#8a939b;stroke-width:1}.frame{fill:none;stroke:#8a939b}\n"
-    ".sclera{fill:#fbfaf6;stroke:none}.cornea{fill:#e8f1f8;stroke:#7f97ad;stroke-width:2}\n"
-    ".merid{stroke:#b8c3cc;stroke-width:1}.ring{fill:none;stroke:#6b7a88;stroke-width:1.2;stroke-dasharray:5 4}\n"
-    ".oz{fill:none;stroke:#3a7d44;stroke-width:1.2;stroke-dasharray:2 3}.kzone{fill:none;stroke:#8a939b;stroke-dasharray:2 2}\n"
-    ".inc{fill:none;stroke:#c0392b;stroke-width:7;stroke-linecap:round}\n"
-    ".steep{stroke:#e67e22;stroke-width:2.5;stroke-dasharray:10 5}.incm{stroke:#c0392b;stroke-width:1.2;stroke-dasharray:3 3}\n"
-    ".s1 polyline{fill:none;stroke:#1f6fb4;stroke-width:2.2}.s1 circle{fill:#1f6fb4}\n"
-    ".s2 polyline{fill:none;stroke:#d35400;stroke-width:2.2}.s2 circle{fill:#d35400}\n"
-    ".s3 polyline{fill:none;stroke:#2c3e50;stroke-width:2.2;stroke-dasharray:6 3}.s3 circle{fill:#2c3e50}\n"
-    ".s4 polyline{fill:none;stroke:#8e44ad;stroke-width:2.2}.s4 circle{fill:#8e44ad}\n"
-    ".s5 polyline{fill:none;stroke:#16a085;stroke-width:2.2;stroke-dasharray:6 3}.s5 circle{fill:#16a085}\n"
-    ".v-pre line{stroke:#7f8c8d;stroke-width:3}.v-pre polygon{fill:#7f8c8d}\n"
-    ".v-post line{stroke:#2c3e50;stroke-width:3}.v-post polygon{fill:#2c3e50}\n"
-    ".v-tia line{stroke:#27ae60;stroke-width:3;stroke-dasharray:7 4}.v-tia polygon{fill:#27ae60}\n"
-    ".v-sia line{stroke:#c0392b;stroke-width:3}.v-sia polygon{fill:#c0392b}\n"
-    ".v-dv line{stroke:#e67e22;stroke-width:2;stroke-dasharray:3 3}.v-dv polygon{fill:#e67e22}\n"
-    ".polar{fill:none;stroke:#dfe3e7}.sec-ref{fill:none;stroke:#c5ccd3;stroke-width:.5}\n"
-    ".sec-def{fill:#f3d9b1;stroke:#9a7b4f;stroke-width:.35}.sec-axis{stroke:#5b6670;stroke-width:1}\n"
-    ".note{font-size:13px;color:#3d4750}\n"
-    ".verdict{font-size:16px;font-weight:600;margin:14px 0 0;padding:10px 14px;border-radius:8px;background:#fff;border-left:6px solid #c0392b}\n"
-    ".verdict.ok{border-left-color:#27ae60}\n"
-    ".strip{display:flex;flex-wrap:wrap;gap:8px}.strip figure{flex:0 1 210px;padding:6px}\n"
-    ".nsti{font-size:15px;font-weight:700;fill:#18324a}.bar{stroke:#1d232a;stroke-width:3}\n"
-    ".band{fill:#2c3e50;fill-opacity:.14;stroke:none}.torn{fill:#c0392b;fill-opacity:.75}\n";
 
 /* ---------------------------------------------------------------- small helpers */
 
@@ -230,6 +195,25 @@ static int maps(FILE *f, const kt_report *r, kt_err *e)
 
 /* ---------------------------------------------------------------- eye diagram */
 
+/* The main incision: each tunnel of the plan at its entry circle, or the patient's main
+ * incision (not simulated) just inside the limbus; its width as an arc. */
+static void main_incision(FILE *f, const kt_report *r, double C, double s, double wtw)
+{
+    for (int i = 0; r->plan && i < r->plan->ntunnel; i++) {
+        const kt_tunnel *t = &r->plan->tunnel[i];
+        double rr = 0.5 * t->entry_diameter, half = 0.5 * t->width / rr / DEG;
+        kt_svg_arc(f, C, C, rr * s, t->meridian - half, t->meridian + half, "main");
+        kt_svg_text(f, C + (rr - 1.3) * s * cos(t->meridian * DEG), C - (rr - 1.3) * s * sin(t->meridian * DEG) + 18, "middle",
+                    "lbl", "main %.1f mm", t->width);
+    }
+    const kt_report_main *m = r->main;
+    if (!m || !m->present || (m->simulated && r->plan && r->plan->ntunnel > 0)) return;
+    double rr = 0.5 * wtw - 0.3, half = 0.5 * m->width / rr / DEG;
+    kt_svg_arc(f, C, C, rr * s, m->meridian - half, m->meridian + half, "main");
+    kt_svg_text(f, C + (rr - 1.3) * s * cos(m->meridian * DEG), C - (rr - 1.3) * s * sin(m->meridian * DEG) + 18, "middle",
+                "lbl", "main %.1f mm", m->width);
+}
+
 static void eye_diagram(FILE *f, const kt_report *r)
 {
     const double W = 460, C = 230;
@@ -271,9 +255,49 @@ static void eye_diagram(FILE *f, const kt_report *r)
     if (!isnan(ring))
         kt_svg_text(f, C + 0.5 * ring * s * cos(-50 * DEG) + 6, C + 0.5 * ring * s * sin(50 * DEG) + 12, "start", "small",
                     "incisions at OZ %.1f mm", ring);
+    main_incision(f, r, C, s, wtw);
     kt_svg_line(f, C - 5, C, C + 5, C, "zero");
     kt_svg_line(f, C, C - 5, C, C + 5, "zero");
     kt_svg_end(f);
+}
+
+static kt_astig astig_add(kt_astig a, kt_astig b)
+{
+    double x[2], y[2];
+    kt_astig_xy(a, x);
+    kt_astig_xy(b, y);
+    return kt_astig_from_xy(x[0] + y[0], x[1] + y[1]);
+}
+
+/* What the report says of the main incision: simulated (in the steps), or the surgeon's SIA
+ * added to the last step's simulated astigmatism: the prediction. */
+static void main_note(FILE *f, const kt_report *r)
+{
+    const kt_report_main *m = r->main;
+    if (!m || !m->present) return;
+    fprintf(f, "<p class=\"note\">Main incision: %.1f mm at %.0f&deg;, ", m->width, m->meridian);
+    if (m->simulated) {
+        fputs("simulated: its tunnel is cut before the arcs, so the steps' SIA holds its effect.</p>\n", f);
+        return;
+    }
+    const kt_report_step *l = &r->step[r->nstep - 1];
+    kt_astig k = astig_add((kt_astig){l->k.cyl, l->k.axis_steep}, m->sia);
+    kt_astig t = astig_add((kt_astig){l->tot.tot_cyl, l->tot.tot_axis}, m->sia);
+    fprintf(f, "not simulated: the surgeon's SIA <b>%.2f D @ %.0f&deg;</b> is added to the simulated eye. The prediction "
+               "with it after the last step: keratometric <b>%.2f D @ %.0f&deg;</b>, total corneal <b>%.2f D @ "
+               "%.0f&deg;</b>.</p>\n", m->sia.mag, axis180(m->sia.axis), k.mag, axis180(k.axis), t.mag, axis180(t.axis));
+}
+
+/* An arc's length (chord 0) or chord (chord 1), mm seen from the front, on the plan's eye: the
+ * zone follows an oval cornea (kt_eye_arc_length, kt_eye_arc_chord); without an eye, on the
+ * circle of the incision's diameter. */
+static double arc_mm(const kt_plan *plan, const kt_incision *in, double centre, double arc, int chord)
+{
+    double a = centre - 0.5 * arc, b = centre + 0.5 * arc, v = NAN;
+    if (plan && plan->scene.model == KT_MODEL_EYE)
+        v = chord ? kt_eye_arc_chord(&plan->scene.eye, in->diameter, a, b) : kt_eye_arc_length(&plan->scene.eye, in->diameter, a, b);
+    if (isfinite(v)) return v;
+    return chord ? in->diameter * sin(0.5 * arc * DEG) : arc * DEG * 0.5 * in->diameter;
 }
 
 static void plan_section(FILE *f, const kt_report *r)
@@ -293,10 +317,10 @@ static void plan_section(FILE *f, const kt_report *r)
         fprintf(f, "<tr><td>%d%s</td>", i + 1, in->paired ? " (paired)" : "");
         fprintf(f, "<td class=\"n\">%.0f&deg;%s</td>", in->meridian, in->paired ? " and opposite" : "");
         fprintf(f, "<td class=\"n\">%.0f&deg; (arc length %.2f mm, chord %.2f mm)", in->arc,
-                in->arc * DEG * 0.5 * in->diameter, in->diameter * sin(0.5 * in->arc * DEG));
+                arc_mm(r->plan, in, in->meridian, in->arc, 0), arc_mm(r->plan, in, in->meridian, in->arc, 1));
         if (in->paired && in->arc_opposite > 0)
             fprintf(f, "; opposite %.1f&deg; (chord %.2f mm)", in->arc_opposite,
-                    in->diameter * sin(0.5 * in->arc_opposite * DEG));
+                    arc_mm(r->plan, in, in->meridian + 180, in->arc_opposite, 1));
         fputs("</td>", f);
         fprintf(f, "<td class=\"n\">%.1f mm</td>", in->diameter);
         if (in->depth_fraction > 0) fprintf(f, "<td class=\"n\">%.0f%%</td>", 100 * in->depth_fraction);
@@ -309,6 +333,7 @@ static void plan_section(FILE *f, const kt_report *r)
         fprintf(f, "<p class=\"note\">Target: correct %.2f D of astigmatism at %.0f&deg;; the target induced "
                    "astigmatism (TIA) is %.2f D at %.0f&deg;.</p>\n",
                 r->tia.mag, axis180(r->tia.axis + 90), r->tia.mag, axis180(r->tia.axis));
+    main_note(f, r);
     fprintf(f, "<p class=\"note\">Incised meridian for flattening: %.1f&deg;. Keratometry: %s fit over the central "
                "%.0f mm, K = 337.5 / R (keratometric index 1.3375).</p></div>\n</div>\n",
             r->meridian, r->fit_name, r->zone);
@@ -713,7 +738,7 @@ static int page(FILE *f, const kt_report *r, kt_err *e)
 {
     char title[512];
     snprintf(title, sizeof title, "keratome: %s", r->plan && r->plan->scene.name[0] ? r->plan->scene.name : r->run_dir);
-    kt_html_begin(f, title, CSS);
+    kt_html_begin(f, title);
     fputs("<header><h1>Limbal relaxing incisions: what the cut does to the cornea</h1><p>", f);
     /* the plan's file name here; its path (relative to the run folder) is in the provenance */
     const char *slash = r->plan_path ? strrchr(r->plan_path, '/') : NULL;

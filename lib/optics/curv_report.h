@@ -47,6 +47,17 @@ typedef struct kt_report_step {
     double arc;                       /* degrees of arc opened per incision (NaN: unknown) */
 } kt_report_step;
 
+/* The patient's main cataract incision as the report shows it (lri-plan's chosen run): drawn at
+ * the limbus; when it is not simulated, the surgeon's SIA vector that the prediction adds to
+ * the simulated eye (the report then states both the simulated post-operative astigmatism and
+ * the prediction with it). */
+typedef struct kt_report_main {
+    int present;
+    double meridian, width;           /* deg TABO, mm */
+    int simulated;                    /* cut in the run (its tunnel's steps before the arcs) */
+    kt_astig sia;                     /* the surgeon's SIA added (mag 0: none) */
+} kt_report_main;
+
 typedef struct kt_report {
     const char *version, *run_dir, *mesh, *plan_path, *run_yaml; /* run_yaml: its text, or NULL */
     const kt_plan *plan;              /* NULL: no plan */
@@ -74,6 +85,7 @@ typedef struct kt_report {
     const double *map_rad;            /* nstep their radii, mm */
     double apex_z;                    /* step 0's fitted apex height, mm (eye frame) */
     int eye_os;                       /* 1: a left eye (OS), 0: right (OD) */
+    const kt_report_main *main;       /* NULL: no main incision to show */
     const double *sia_lo, *sia_hi;   /* nstep: the SIA's 90% band (NULL: no bands) */
     int ntorn;                        /* quantities in the tornado chart (0: none) */
     const char *const *torn_name;     /* ntorn, largest first */

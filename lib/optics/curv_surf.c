@@ -144,6 +144,30 @@ static int surface_triangles(const kt_vtk *v, const int *sl, kt_surf *s, kt_err 
     return rc;
 }
 
+/* s's points: the nn points whose slot sl[i] >= 0 (n of them), deformed xyz + disp, their
+ * input-mesh node (org1, 1-based). */
+static int fill_points(int nn, const double *xyz, const double *disp, const int *org1, const int *sl, int n,
+                       kt_surf *s, kt_err *e)
+{
+    s->n = n;
+    s->xyz = kt_calloc((size_t)3 * n, sizeof(double), e);
+    s->disp = kt_calloc((size_t)3 * n, sizeof(double), e);
+    s->node = kt_calloc(n, sizeof(int), e);
+    s->origin = kt_calloc(n, sizeof(int), e);
+    if (!s->xyz || !s->disp || !s->node || !s->origin) return e->code;
+    for (int i = 0; i < nn; i++) {
+        int k = sl[i];
+        if (k < 0) continue;
+        s->node[k] = i;
+        s->origin[k] = org1[i];
+        for (int c = 0; c < 3; c++) {
+            s->disp[3 * k + c] = disp[3 * i + c];
+            s->xyz[3 * k + c] = xyz[3 * i + c] + disp[3 * i + c];
+        }
+    }
+    return KT_OK;
+}
+
 int kt_curv_extract(const kt_vtk *v, const char *what, const unsigned char *mask, int mesh_nn,
                     kt_surf *s, kt_err *e)
 {
@@ -156,42 +180,51 @@ int kt_curv_extract(const kt_vtk *v, const char *what, const unsigned char *mask
         return kt_fail(e, KT_EINPUT, "%s: expected POINT_DATA field \"displacement\" (3 components)", what);
     if (!orig || orig->ncomp != 1)
         return kt_fail(e, KT_EINPUT, "%s: expected POINT_DATA field \"origin\" (input-mesh node, 1-based)", what);
-    int *sl = kt_calloc(v->nn, sizeof(int), e);
-    if (!sl) return e->code;
+    int *sl = kt_calloc(v->nn, sizeof(int), e), *org1 = kt_calloc(v->nn, sizeof(int), e);
+    if (!sl || !org1) {
+        free(sl), free(org1);
+        return e->code;
+    }
     int n = 0;
     for (int i = 0; i < v->nn; i++) {
         double o = orig->v[i];
         if (!(o >= 1 && o <= mesh_nn && o == floor(o))) {
-            free(sl);
+            free(sl), free(org1);
             return kt_fail(e, KT_EINPUT, "%s: origin of point %d is %g: expected a node of the mesh, 1..%d",
                            what, i, o, mesh_nn);
         }
+        org1[i] = (int)o;
         sl[i] = mask[(int)o - 1] ? n++ : -1;
     }
     if (n == 0) {
-        free(sl);
+        free(sl), free(org1);
         return kt_fail(e, KT_EINPUT, "%s: no point descends from an anterior-surface node", what);
     }
-    s->n = n;
-    s->xyz = kt_calloc((size_t)3 * n, sizeof(double), e);
-    s->disp = kt_calloc((size_t)3 * n, sizeof(double), e);
-    s->node = kt_calloc(n, sizeof(int), e);
-    s->origin = kt_calloc(n, sizeof(int), e);
-    int rc = e->code;
-    if (s->xyz && s->disp && s->node && s->origin) {
-        for (int i = 0; i < v->nn; i++) {
-            int k = sl[i];
-            if (k < 0) continue;
-            s->node[k] = i;
-            s->origin[k] = (int)orig->v[i];
-            for (int c = 0; c < 3; c++) {
-                s->disp[3 * k + c] = disp->v[3 * i + c];
-                s->xyz[3 * k + c] = v->xyz[3 * i + c] + disp->v[3 * i + c];
-            }
+    int rc = fill_points(v->nn, v->xyz, disp->v, org1, sl, n, s, e);
+    if (rc == KT_OK) rc = surface_triangles(v, sl, s, e);
+    free(sl), free(org1);
+    if (rc != KT_OK) kt_surf_free(s);
+    return rc;
+}
+
+int kt_curv_points(const kt_mesh *m, const double *u, const int *origin, const unsigned char *mask, int mesh_nn,
+                   kt_surf *s, kt_err *e)
+{
+    memset(s, 0, sizeof *s);
+    int *sl = kt_calloc(m->nn, sizeof(int), e), *org1 = kt_calloc(m->nn, sizeof(int), e);
+    int n = 0, rc = sl && org1 ? KT_OK : e->code;
+    for (int i = 0; rc == KT_OK && i < m->nn; i++) {
+        if (!(origin[i] >= 0 && origin[i] < mesh_nn)) {
+            rc = kt_fail(e, KT_ERUN, "node %d descends from node %d: expected a node of the mesh, 0..%d", i, origin[i],
+                         mesh_nn - 1);
+            break;
         }
-        rc = surface_triangles(v, sl, s, e);
+        org1[i] = origin[i] + 1;
+        sl[i] = mask[origin[i]] ? n++ : -1;
     }
-    free(sl);
+    if (rc == KT_OK && n == 0) rc = kt_fail(e, KT_ERUN, "no node descends from a node of the surface");
+    if (rc == KT_OK) rc = fill_points(m->nn, m->xyz, u, org1, sl, n, s, e);
+    free(sl), free(org1);
     if (rc != KT_OK) kt_surf_free(s);
     return rc;
 }

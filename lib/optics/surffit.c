@@ -1,8 +1,12 @@
 /* surffit.c: corneal surfaces and the thickness profile from Pentacam maps (surffit.h). */
 #include "surffit.h"
+#include "units.h"
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
+
+#include "eye_geom.h"
 
 /* The map's measured cells within radius a of (cx, cy) as points (x, y, -value); *np of them. */
 static double *cells(const kt_pentacam_map *m, double cx, double cy, double a, int *np, kt_err *e)
@@ -200,10 +204,109 @@ int kt_surffit_halves(const kt_pentacam_map *m, const kt_surffit *fit, kt_halfme
     if (half_power(m, fit, fit->axis, &out->k_a, &out->npts, e) || half_power(m, fit, fit->axis + 180, &out->k_b, &out->npts, e) ||
         half_power(m, fit, fit->axis + 90, &kf1, &out->npts, e) || half_power(m, fit, fit->axis + 270, &kf2, &out->npts, e))
         return e->code;
-    double ks = 337.5 / fit->r_steep, kf = 337.5 / fit->r_flat;
+    double ks = KT_N_KERATO / fit->r_steep, kf = KT_N_KERATO / fit->r_flat;
     out->k_a += ks, out->k_b += ks;
     out->k_flat = kf + 0.5 * (kf1 + kf2);
     if (!(isfinite(out->k_a) && isfinite(out->k_b) && isfinite(out->k_flat)))
         return kt_fail(e, KT_ERUN, "the half-meridian powers are not finite");
+    return KT_OK;
+}
+
+int kt_surffit_departure(const kt_pentacam_map *m, const kt_eye *eye, int posterior, int order, double a,
+                         double taper, kt_eye_departure *d, double *rms, double *max, int *npts, kt_err *e)
+{
+    kt_eye_geom g;
+    if (kt_eye_geom_init(eye, &g, e)) return e->code;
+    int np;
+    double *xyz = cells(m, 0, 0, a, &np, e);
+    if (!xyz) return e->code;
+    int k = 0;
+    for (int i = 0; i < np; i++) {
+        double *q = xyz + 3 * i, z = kt_eye_base_sag(&g, eye, posterior, q[0], q[1]) + q[2]; /* q[2] = -value */
+        if (!isfinite(z)) continue;
+        xyz[3 * k] = q[0], xyz[3 * k + 1] = q[1], xyz[3 * k + 2] = z;
+        k++;
+    }
+    kt_fit f;
+    int rc = kt_curv_fit(xyz, k, KT_FIT_ZERNIKE_AT, order, 2 * a, 0, 0, &f, NULL, 0, e);
+    if (rc == KT_OK) {
+        memset(d, 0, sizeof *d);
+        d->conic = posterior ? 0 : eye->dep_ant.conic;
+        d->order = f.order, d->radius = a, d->taper = taper;
+        memcpy(d->coef, f.zern, sizeof(double) * (size_t)f.nterms);
+        *rms = f.rms, *npts = f.npts, *max = 0;
+        for (int i = 0; i < k; i++) {
+            double z, zx, zy;
+            kt_fit_eval(&f, xyz[3 * i], xyz[3 * i + 1], &z, &zx, &zy);
+            *max = fmax(*max, fabs(xyz[3 * i + 2] - z));
+        }
+        /* The tilt (the map's decentration from the instrument's axis: a rigid turn of the
+         * cornea that changes no curvature) is left out: the mesh keeps its apex on its axis. */
+        d->coef[1] = d->coef[2] = 0;
+        /* The posterior's radial profile is the one the pachymetry fixes (the thickness at the
+         * centre and at the zone): its rotationally symmetric terms (m = 0) are left out. */
+        for (int j = 0; posterior && j < f.nterms; j++) {
+            int zn, zm;
+            kt_zern_nm(j, &zn, &zm);
+            if (zm == 0) d->coef[j] = 0;
+        }
+    }
+    free(xyz);
+    return rc;
+}
+
+/* The largest radius, a down to KT_SURFFIT_DEP_MIN_RADIUS in 0.25 mm steps, within which the
+ * map measures at least KT_SURFFIT_DEP_COVER of the grid's cells; 0 when none. */
+static double covered_radius(const kt_pentacam_map *m, double a)
+{
+    for (double r = a; r >= KT_SURFFIT_DEP_MIN_RADIUS - 1e-9; r -= 0.25) {
+        int all = 0, have = 0;
+        for (int j = 0; j < m->n; j++)
+            for (int i = 0; i < m->n; i++)
+                if (hypot(kt_pentacam_coord(i), kt_pentacam_coord(j)) <= r) all++, have += !isnan(m->v[j * m->n + i]);
+        if (have >= KT_SURFFIT_DEP_COVER * all) return r;
+    }
+    return 0;
+}
+
+/* One map's departure into d and the residuals into s; the map read against the patient file
+ * (kt_patient_read_map). */
+static int measured_surface(const kt_patient *p, int posterior, const kt_eye *eye, double a, double taper,
+                            kt_eye_departure *d, kt_surffit *s, kt_err *e)
+{
+    const char *path = posterior ? p->pentacam_back : p->pentacam_front;
+    kt_pentacam_map m;
+    if (kt_patient_read_map(p, posterior ? KT_PF_BACK : KT_PF_FRONT, &m, e)) return e->code;
+    double r = covered_radius(&m, a);
+    int rc = r > 0 ? kt_surffit_departure(&m, eye, posterior, KT_SURFFIT_DEP_ORDER, r, taper, d, &s->dep_rms,
+                                          &s->dep_max, &s->dep_npts, e)
+                   : kt_fail(e, KT_EINPUT, "%s: the map measures less than %.0f%% of every central disk from %g mm "
+                             "across down to %g mm: too little for the mesh's %s surface", path,
+                             100 * KT_SURFFIT_DEP_COVER, 2 * a, 2 * KT_SURFFIT_DEP_MIN_RADIUS,
+                             posterior ? "posterior" : "anterior");
+    kt_pentacam_free(&m);
+    if (rc == KT_OK) s->dep_order = d->order, s->dep_radius = d->radius;
+    return rc;
+}
+
+int kt_surffit_measured_eye(const kt_patient *p, kt_eye *eye, kt_surffit *ant, kt_surffit *post, kt_err *e)
+{
+    if (!p->pentacam_front[0]) return KT_OK;
+    kt_eye_geom g;
+    if (kt_eye_geom_init(eye, &g, e)) return e->code;
+    /* The anterior base aspheric with the fit's Q; both departures fitted against the base
+     * surfaces (the anterior's departure does not change the posterior's base). */
+    kt_eye base = *eye;
+    memset(&base.dep_ant, 0, sizeof base.dep_ant);
+    memset(&base.dep_post, 0, sizeof base.dep_post);
+    base.dep_ant.conic = ant->conic;
+    kt_eye_departure da, dp = {0};
+    if (measured_surface(p, 0, &base, KT_SURFFIT_ZONE / 2, g.rc, &da, ant, e)) return e->code;
+    if (p->pentacam_back[0] && post && measured_surface(p, 1, &base, g.taper_in, g.taper_out, &dp, post, e))
+        return e->code;
+    eye->dep_ant = da, eye->dep_post = dp;
+    kt_err le = {0};
+    if (kt_eye_departure_check(&g, eye, &le))
+        return kt_fail(e, KT_EINPUT, "%s: the measured cornea does not fit the eye model: %s", p->pentacam_front, le.msg);
     return KT_OK;
 }

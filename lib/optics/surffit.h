@@ -6,6 +6,7 @@
 #define KT_SURFFIT_H
 
 #include "curv.h"
+#include "patient.h"
 #include "pentacam.h"
 
 /* Zones (diameters, mm): the surfaces over the central 8 mm, the zone commonly used for the
@@ -22,11 +23,49 @@ typedef struct kt_surffit {
     double rms, max_resid;      /* residuals over the zone, mm */
     int npts;                   /* cells used */
     double zone;                /* mm */
+    /* The measured surface in the mesh (kt_surffit_measured_eye; dep_order 0: not fitted): */
+    int dep_order;              /* Zernike order of the departure */
+    double dep_rms, dep_max;    /* its residuals over the zone, mm: the mesh's surface (base
+                                   plus departure) against the map's cells */
+    int dep_npts;               /* cells used */
+    double dep_radius;          /* the departure's zone radius, mm */
 } kt_surffit;
 
 /* Fit an elevation map over the zone of diameter zone_d (mm) around the grid centre, then
  * around the fitted apex. Fewer than 12 measured cells there is KT_ERUN. */
 int kt_surffit_elevation(const kt_pentacam_map *m, double zone_d, kt_surffit *out, kt_err *e);
+
+/* The measured surface in the mesh (keratome-patient(5), THE FIT; lib/model/eye_depart.h): an
+ * elevation map's departure from the surface eye's mesher builds (kt_eye_base_sag: the anterior
+ * with eye->dep_ant.conic's asphericity, posterior 0; the posterior conic with its toric warp,
+ * posterior 1), z = base sag - the map's value at each measured cell within a (mm) of the eye
+ * axis (the grid centre), fitted with the normalized Zernike polynomials to the given order
+ * about the axis on that disk (fewer than 3 cells a term lowers the order: d->order says what
+ * was fitted); then the tilt terms (j = 1, 2: the map's decentration) set to 0, and for the
+ * posterior the rotationally symmetric ones (m = 0: its radial profile is the pachymetry's);
+ * tapered to 0 at `taper` (mm); d->conic the anterior base's (0 for the posterior); *rms and
+ * *max the fit's residuals over those cells (all terms), mm; *npts their count. Order
+ * KT_SURFFIT_DEP_ORDER is lri-plan's (keratome-patient(5), THE FIT: the residuals by order). */
+#define KT_SURFFIT_DEP_ORDER 6
+int kt_surffit_departure(const kt_pentacam_map *m, const kt_eye *eye, int posterior, int order, double a,
+                         double taper, kt_eye_departure *d, double *rms, double *max, int *npts, kt_err *e);
+
+/* The zone of a measured surface shrinks, by 0.25 mm steps down to this radius (mm), until the
+ * map measures this fraction of its grid's cells (keratome-patient(5), THE FIT). */
+#define KT_SURFFIT_DEP_MIN_RADIUS 2.0
+#define KT_SURFFIT_DEP_COVER 0.9
+
+/* The patient's measured surfaces into its eye scene: the anterior base aspheric with the fit's
+ * Q (ant->conic), the front map's departure over the fit's zone (KT_SURFFIT_ZONE, or the
+ * largest disk within it the map measures, KT_SURFFIT_DEP_COVER) into
+ * eye->dep_ant, tapered to 0 at the corneal edge (white_to_white / 2); when the export has a
+ * back map, its departure over the zone where the toric posterior is whole (rho_P / 2, rho_P
+ * where the posterior cornea meets the limbus; keratome-scene(5)) into eye->dep_post, tapered to
+ * 0 at rho_P as the toric posterior is; order KT_SURFFIT_DEP_ORDER; the residuals into
+ * ant->dep_* and post->dep_* (post may be NULL without a back map); then the pair checked
+ * against the eye (kt_eye_departure_check; KT_EINPUT naming the front map when they do not
+ * fit). A no-op for a patient without a Pentacam export. */
+int kt_surffit_measured_eye(const kt_patient *p, kt_eye *eye, kt_surffit *ant, kt_surffit *post, kt_err *e);
 
 /* The half-meridian powers (keratome-patient(5), UNEQUAL PAIRED ARCS), keratometric index:
  * the fitted biconic's apex power of the meridian (the same on both halves) plus what each half

@@ -20,17 +20,31 @@ void kt_edits_plan_free(kt_edits_plan *p)
     memset(p, 0, sizeof *p);
 }
 
+/* Room for one more step at p->step[p->nsteps] (zeroed). */
+static int room(kt_edits_plan *p, kt_err *e)
+{
+    if (p->nsteps < p->cap) return KT_OK;
+    int cap = p->cap ? 2 * p->cap : 16;
+    kt_step *s = kt_realloc(p->step, (size_t)cap, sizeof *s, e);
+    if (!s) return e->code;
+    memset(s + p->cap, 0, (size_t)(cap - p->cap) * sizeof *s);
+    p->step = s;
+    p->cap = cap;
+    return KT_OK;
+}
+
+int kt_edits_plan_add(kt_edits_plan *p, kt_step *s, kt_err *e)
+{
+    if (room(p, e)) return e->code;
+    p->step[p->nsteps++] = *s; /* the edits move over: s is left empty */
+    memset(s, 0, sizeof *s);
+    return KT_OK;
+}
+
 int kt_edits_plan_read(kt_edits_plan *p, kt_edits_reader *r, kt_err *e)
 {
     for (;;) {
-        if (p->nsteps == p->cap) {
-            int cap = p->cap ? 2 * p->cap : 16;
-            kt_step *s = kt_realloc(p->step, (size_t)cap, sizeof *s, e);
-            if (!s) return e->code;
-            memset(s + p->cap, 0, (size_t)(cap - p->cap) * sizeof *s);
-            p->step = s;
-            p->cap = cap;
-        }
+        if (room(p, e)) return e->code;
         int rc = kt_edits_next(r, &p->step[p->nsteps], e);
         if (rc <= 0) { /* the slot is not counted: free what a failed or empty read left in it */
             kt_step_free(&p->step[p->nsteps]);

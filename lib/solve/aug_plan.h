@@ -42,6 +42,11 @@ typedef struct kt_edits_plan {
 
 /* Read the rest of the stream (every step to the end) into p. Bad input is KT_EINPUT. */
 int kt_edits_plan_read(kt_edits_plan *p, kt_edits_reader *r, kt_err *e);
+/* The in-memory entry (a caller that makes the steps itself, kt_incise_next, instead of reading
+ * a stream): append step s as the plan's next step; its edits move into p and s is left empty
+ * (kt_step_free of it is harmless). kt_edits_plan_check validates the whole plan afterwards, as
+ * for a stream read. */
+int kt_edits_plan_add(kt_edits_plan *p, kt_step *s, kt_err *e);
 /* Validate every step against the intact mesh before anything is factored (a bad tet is
  * KT_EINPUT "stream:line:col: ..."), and set parents, constrained variables and p->usable.
  * The final cut mesh is written to final (caller frees). */

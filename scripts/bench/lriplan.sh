@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# lriplan.sh: the three-patient benchmark of lri-plan (issue 20, lri-plan(1) BENCHMARK): three
+# lriplan.sh: the three-patient benchmark of lri-plan (issue 20; its figures: docs/planner.md): three
 # patients of plans/patients (with the rule OD, against the rule OS, oblique OD), each planned
 # with --fast and with the default setting. Prints one row per run (wall and CPU seconds, peak
 # RSS, mesh nodes, the meshing and solving seconds lri-plan reports, the chosen arcs and the
@@ -104,53 +104,46 @@ for p in pats:
         d = "%+g deg" % (v["fast"][0] - v["default"][0]) if len(v) == 2 else "-"
         print("%-11s %-8s %-20s %-20s %s" % (p, fam, cell("fast"), cell("default"), d))
 PYEOF
-# Where each family's time goes (lri-plan's and augsolve's progress lines): wall seconds of
-# cutplan, the prestress (own, or "shared": solved once before the first family's run and lent
-# to every family's), the derivative quantities' matrices, the planned factorization (its
-# assembly and ordering included), the steps' derivatives, the whole augsolve run (without a
-# shared prestress) and curvature; then the CPU seconds of cutplan, augsolve (with the shared
-# prestress where it was solved) and curvature.
+# Where each family's time goes (lri-plan's progress lines; the planner solves in memory,
+# lib/planner): wall seconds of the derivative quantities' matrices, the planned factorization
+# (its assembly and ordering included) and the steps' derivatives (the solver's lines), then
+# the CPU seconds of the family's cut, solve, readings and step files, of the shared prestress
+# (solved once, before the first family) and of the mesh.
 "$PY" - "$OUT" $PATIENTS -- $SETTINGS <<'PYEOF'
 import re, sys
 out = sys.argv[1]
 i = sys.argv.index("--")
 pats, sets = sys.argv[2:i], sys.argv[i + 1:]
 num = r"([0-9.]+)"
-print("\npatient     setting  family   mesh_s  cutplan_s  prestress_s   dmat_s  factor_s  dsteps_s  augsolve_s  curv_s  | CPU: cutplan  augsolve  curvature  mesh")
+print("\npatient     setting  family    dmat_s  factor_s  dsteps_s  | CPU: cut  solve  read  files  prestress  mesh")
 for p in pats:
     for s in sets:
         try:
             lines = open("%s/%s-%s.err" % (out, p, s)).read().splitlines()
         except OSError:
             continue
-        mesh = cmesh = float("nan")
+        cmesh = cpre = float("nan")
         f = None
         for l in lines:
             m = re.search(r"lri-plan: meshed in %s s \(CPU %s s\)" % (num, num), l)
-            if m: mesh, cmesh = float(m.group(1)), float(m.group(2))
-            m = re.match(r"lri-plan: (\w+) arcs.*: cutplan, augsolve, curvature", l)
-            if m: f = {"name": m.group(1), "pre": "-", "dmat": float("nan"), "fac": float("nan"), "dst": float("nan")}
+            if m: cmesh = float(m.group(2))
+            m = re.search(r"lri-plan: the families' shared prestress \(CPU %s s\)" % num, l)
+            if m: cpre = float(m.group(1))
+            m = re.match(r"lri-plan: (\w+) arcs.*: cut, solve, read", l)
+            if m: f = {"name": m.group(1), "dmat": float("nan"), "fac": float("nan"), "dst": float("nan")}
             if f is None: continue
-            m = re.search(r"prestress of the measured geometry under its loads \(%s s\)" % num, l)
-            if m: f["pre"] = m.group(1)
-            if "prestress of the measured geometry: the caller's" in l: f["pre"] = "shared"
             m = re.search(r"derivative quantities, their matrices in %s s" % num, l)
             if m: f["dmat"] = float(m.group(1))
             m = re.search(r"augsolve: planned: .* in %s s \(assembly" % num, l)
             if m: f["fac"] = float(m.group(1))
             m = re.search(r"%s s in the steps' derivatives" % num, l)
             if m: f["dst"] = float(m.group(1))
-            m = re.search(r"lri-plan: \w+ arcs: cutplan %s s, augsolve %s s, curvature %s s \(CPU %s, %s, %s s\)(.*)" % ((num,) * 6), l)
+            m = re.search(r"lri-plan: \w+ arcs: CPU %s s cut, %s s solve, %s s read, %s s out" % ((num,) * 4), l)
             if m:
-                g = [float(x) for x in m.groups()[:6]]
-                sh = re.search(r"shared prestress %s s \(CPU %s s\)" % (num, num), m.group(7))
-                pre = f["pre"]
-                caug = g[4]
-                if sh:
-                    pre, caug = "%s shared" % sh.group(1), g[4] + float(sh.group(2))
-                print("%-11s %-8s %-8s %6.1f %9.1f  %11s %8.1f %9.1f %9.1f %11.1f %7.1f  |  %12.1f %9.1f %10.1f %5.1f" % (
-                    p, s, f["name"], mesh, g[0], pre, f["dmat"], f["fac"], f["dst"], g[1], g[2], g[3], caug, g[5], cmesh))
-                mesh = cmesh = float("nan")
+                g = [float(x) for x in m.groups()]
+                print("%-11s %-8s %-8s %7.1f %9.1f %9.1f  |  %8.1f %6.1f %5.1f %6.1f %10.1f %5.1f" % (
+                    p, s, f["name"], f["dmat"], f["fac"], f["dst"], g[0], g[1], g[2], g[3], cpre, cmesh))
+                cmesh = cpre = float("nan")
                 f = None
 PYEOF
 echo "table: $TSV; load now: $(uptime | sed 's/.*load average: //')"

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "kt_test.h"
+#include "lp_choose.h"
 #include "nomo.h"
 
 static char dir[64];
@@ -156,6 +157,28 @@ static void test_main_sia(const char *path)
     kt_nomo_free(&t);
 }
 
+/* The surgeon's SIA means the same in lri-nomogram and lri-plan (keratome-patient(5), sia): a
+ * steepening at its axis, added by double-angle sum. kt_nomo_pre against the planner's sum
+ * (lp_choose's kt_lp_astig_add, which lri-plan adds the patient's sia with), axes 0 and 180 the
+ * same. */
+static void test_sia_as_lri_plan(void)
+{
+    static const double v[][4] = {/* K cylinder D, its axis, SIA D, its axis */
+                                  {1.5, 90, 0.5, 0},  {1.5, 90, 0.5, 180}, {1.5, 0, 0.3, 90}, {1.5, 180, 0.3, 90},
+                                  {1.0, 30, 0.4, 120}, {1.0, 30, 1.0, 120}, {2.0, 178, 0.3, 2}, {0.8, 45, 0.6, 135},
+                                  {1.2, 10, 0.5, 60}};
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
+        kt_nomo_query q = {44.0 + v[i][0], 44.0, v[i][1], 66, NAN, 0, 0, v[i][2], v[i][3]};
+        double ax, pre = kt_nomo_pre(&q, &ax);
+        kt_astig s = kt_lp_astig_add((kt_astig){v[i][0], v[i][1]}, (kt_astig){v[i][2], v[i][3]});
+        double d = fmod(fabs(ax - s.axis), 180);
+        d = fmin(d, 180 - d);
+        CHECK(fabs(pre - s.mag) < 1e-12 && (s.mag < 1e-9 || d < 1e-9),
+              "%g @ %g + SIA %g @ %g: lri-nomogram %.12g @ %.9g, lri-plan %.12g @ %.9g", v[i][0], v[i][1], v[i][2],
+              v[i][3], pre, ax, s.mag, s.axis);
+    }
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/kt_nomo_XXXXXX");
@@ -163,6 +186,7 @@ int main(void)
     test_closed_forms(write_table());
     test_main_sia(write_table());
     test_bad_tables();
+    test_sia_as_lri_plan();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0) return 1;

@@ -14,9 +14,9 @@
 #define HW 1.2  /* half a 2.4 mm incision */
 #define DEG (180 / KT_PI)
 
-static kt_wound strip(double meridian)
+static kt_footprint strip(double meridian)
 {
-    kt_wound w = {meridian, 2 * HW, 0.1 * R, 2 * R, "the main incision"};
+    kt_footprint w = {meridian, 2 * HW, 0.1 * R, 2 * R, "the main incision"};
     return w;
 }
 
@@ -25,26 +25,26 @@ static double apart(double D) { return (R * sin(D / DEG) - HW) / R * DEG; }
 
 static void test_clearance(void)
 {
-    kt_wound w = strip(0);
+    kt_footprint w = strip(0);
     CHECK_NEAR(kt_clearance(&w, 90, 90, R), apart(45), 0.02, "90 deg arc at 90: ends 45 deg from the wound");
     CHECK_NEAR(kt_clearance(&w, 120, 60, R), apart(90), 0.02, "60 deg arc at 120: end at 90 deg");
     double in = 2 * asin(HW / R) * DEG;
     CHECK_NEAR(kt_clearance(&w, 0, 60, R), -in, 0.02, "an arc across the wound: minus the degrees inside");
     CHECK_NEAR(kt_clearance(&w, 20, 30, R), -(asin(HW / R) * DEG - 5), 0.02, "an arc into the wound's side");
-    kt_wound w2 = strip(350);
+    kt_footprint w2 = strip(350);
     CHECK_NEAR(kt_clearance(&w2, 10, 20, R), -(asin(HW / R) * DEG - 10), 0.02, "wraps through 0 deg");
     (void)in;
     CHECK(isnan(kt_clearance(&w, 0, 60, 0)), "a zero radius is NaN");
     CHECK(isnan(kt_clearance(&w, NAN, 60, R)), "a NaN centre is NaN");
     /* a footprint short of the zone: the distance to its inner end */
-    kt_wound s = {0, 2 * HW, R + 0.5, R + 1.5, "a side port"};
+    kt_footprint s = {0, 2 * HW, R + 0.5, R + 1.5, "a side port"};
     CHECK_NEAR(kt_clearance(&s, 90, 60, R), hypot(R + 0.5 - R * cos(60 / DEG), R * sin(60 / DEG) - HW) / R * DEG, 0.02,
                "footprint outside the zone circle");
 }
 
 static void test_clear_arc(void)
 {
-    kt_wound w = strip(0);
+    kt_footprint w = strip(0);
     int k;
     double b = asin((HW + R * 15 / DEG) / R) * DEG; /* 15 deg clear of the wound */
     CHECK_NEAR(kt_clear_arc(&w, 1, 60, 120, R, 15, &k), 2 * (60 - b), 1e-3, "trimmed at 15 deg clearance");
@@ -53,7 +53,7 @@ static void test_clear_arc(void)
     CHECK(kt_clear_arc(&w, 1, 90, 90, R, 15, &k) == 90 && k == -1, "a clear arc keeps max");
     CHECK(kt_clear_arc(&w, 1, 5, 90, R, 15, &k) == 0 && k == 0, "a centre within the clearance: none");
     CHECK(isnan(kt_clear_arc(&w, 1, 5, 90, R, -1, &k)), "a negative clearance is NaN");
-    kt_wound two[2] = {strip(0), strip(150)};
+    kt_footprint two[2] = {strip(0), strip(150)};
     two[1].name = "the side port";
     double b2 = asin((HW + R * 15 / DEG) / R) * DEG;
     CHECK_NEAR(kt_clear_arc(two, 2, 90, 120, R, 15, &k), 2 * (60 - b2), 1e-3, "the nearer of two wounds limits");
@@ -62,7 +62,7 @@ static void test_clear_arc(void)
 
 static void test_family(void)
 {
-    kt_wound w = strip(180);
+    kt_footprint w = strip(180);
     kt_clear_result r;
     kt_clear_family(&w, 1, 90, 1, 1, 90, R, 15, &r);
     CHECK(r.arc == 90 && !r.trimmed && r.reason[0] == 0, "a pair across the wound's meridian is clear");
@@ -73,7 +73,7 @@ static void test_family(void)
     CHECK(strstr(r.reason, "the main incision at 180 deg") != NULL, "reason: %s", r.reason);
     CHECK(r.at_max < 0, "at max the pair crosses: %g", r.at_max);
     /* an unequal pair: the opposite arc half as long, 30 deg from the wound's meridian */
-    kt_wound u = strip(270);
+    kt_footprint u = strip(270);
     double b = asin((HW + R * 15 / DEG) / R) * DEG;
     kt_clear_family(&u, 1, 60, 1, 0.5, 90, R, 15, &r);
     CHECK_NEAR(r.arc, 2 * (30 - b) / 0.5, 1e-3, "the opposite arc limits an unequal pair, in its ratio");
@@ -91,8 +91,8 @@ static void test_atr(void)
     const char *field;
     char msg[400];
     CHECK(kt_tunnel_derive(&s.eye, &t, &field, msg, sizeof msg) == KT_OK, "tunnel: %s", msg);
-    kt_wound w;
-    kt_wound_of_tunnel(&t, "the main incision", &w);
+    kt_footprint w;
+    kt_footprint_of_tunnel(&t, "the main incision", &w);
     CHECK(w.r_out > R && w.r_in < R, "the tunnel spans the 10.5 mm zone: %g-%g mm", w.r_in, w.r_out);
     kt_clear_result r;
     kt_clear_family(&w, 1, 0, 1, 1, 90, R, KT_CLEARANCE_DEG, &r);

@@ -10,7 +10,11 @@
  *    [-45, 45] deg: a positive azimuth in (0, 45) deg turns a1 towards +y, one in (45, 90)
  *    turns it back towards -y (the sign the page's former wording had reversed);
  *  - at w = 1 the pair lies along the radial and circumferential directions exactly, also
- *    where n is tilted (the limbus, about 32 deg from the axis).
+ *    where n is tilted (the limbus, about 32 deg from the axis);
+ *  - on an oval cornea (plans/eye.yaml: white_to_white 11.7 x 10.6 mm) c is the tangent
+ *    (-y a^2, x b^2, 0) of the ellipse of the white-to-white's semi-axes a, b through the point,
+ *    projected, and rc in w the edge's radius a b / hypot(b cos t, a sin t) in its meridian t.
+ * Both eyes: plans/eye.yaml as it is (oval) and made round (vertical = horizontal).
  * Each point is the centroid of a small regular tet of the region (the frames are evaluated at
  * tet centroids). */
 #include <math.h>
@@ -76,16 +80,13 @@ static int build(const place *pl, int n, double ra, double zc, double rg, kt_mes
     return KT_OK;
 }
 
-int main(void)
+static void check_eye(const kt_eye *eye)
 {
-    kt_scene s;
     kt_err e = {0};
-    int rc = kt_scene_load("plans/eye.yaml", &s, &e);
-    CHECK(rc == KT_OK, "plans/eye.yaml: %s", e.msg);
-    if (rc != KT_OK) return kt_test_done("test_eye_fibre");
-    const kt_eye *eye = &s.eye;
+    int rc;
     /* the mean anterior sphere through the corneal edge on the globe (keratome-scene(5)) */
     double ra = 2 / (1 / eye->r_ant_steep + 1 / eye->r_ant_flat), rcorn = eye->wtw / 2, rg = eye->globe_radius;
+    double a = rcorn, b = 0.5 * (eye->wtw_v > 0 ? eye->wtw_v : eye->wtw); /* the white-to-white's semi-axes */
     double zc = sqrt(rg * rg - rcorn * rcorn) - sqrt(ra * ra - rcorn * rcorn), band = eye->fibre_band;
     CHECK(band == 1.5, "plans/eye.yaml's limbal band %g mm (the places below assume 1.5 mm)", band);
     const place pl[] = {
@@ -115,13 +116,14 @@ int main(void)
         unit(n0);
         tangent(x, n0, b1);
         cross(n0, b1, b2);
-        cz[0] = -sin(ph), cz[1] = cos(ph), cz[2] = 0;
+        cz[0] = -sin(ph) * a * a, cz[1] = cos(ph) * b * b, cz[2] = 0;
         tangent(cz, n0, c0);
+        double edge = a * b / hypot(b * cos(ph), a * sin(ph));
         double dn = 0, dc = 0;
         for (int k = 0; k < 3; k++) dn = fmax(dn, fabs(nn[k] - n0[k])), dc = fmax(dc, fabs(c[k] - c0[k]));
         CHECK(dn < 1e-12 && dc < 1e-12, "place %d: n and c as stated (%.2e, %.2e)", t, dn, dc);
         /* w */
-        double sw = pl[t].limbus ? 1 : fmin(1, fmax(0, (r - (rcorn - band)) / band)), want_w = sw * sw * (3 - 2 * sw);
+        double sw = pl[t].limbus ? 1 : fmin(1, fmax(0, (r - (edge - band)) / band)), want_w = sw * sw * (3 - 2 * sw);
         CHECK(fabs(w - want_w) < 1e-12, "place %d: w %.15g, expected %.15g", t, w, want_w);
         /* the turn: the angle of a1 from b1 about n, positive from b1 towards b2 */
         double th = atan2(dot(a1, b2), dot(a1, b1));
@@ -149,5 +151,18 @@ int main(void)
         }
     }
     kt_mesh_free(&m);
+}
+
+int main(void)
+{
+    kt_scene s;
+    kt_err e = {0};
+    int rc = kt_scene_load("plans/eye.yaml", &s, &e);
+    CHECK(rc == KT_OK, "plans/eye.yaml: %s", e.msg);
+    if (rc != KT_OK) return kt_test_done("test_eye_fibre");
+    CHECK(s.eye.wtw_v < s.eye.wtw, "plans/eye.yaml's cornea is oval (%g x %g mm)", s.eye.wtw, s.eye.wtw_v);
+    check_eye(&s.eye);
+    s.eye.wtw_v = s.eye.wtw;
+    check_eye(&s.eye);
     return kt_test_done("test_eye_fibre");
 }

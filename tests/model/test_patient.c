@@ -50,6 +50,13 @@ static void test_ok(void)
     int rc = load_text(OK_OD, &p, &e);
     CHECK(rc == KT_OK, "OD patient: %s", e.msg);
     CHECK(p.eye == KT_EYE_OD, "eye");
+    CHECK(p.id[0] == 0 && p.dob[0] == 0 && p.surgeon[0] == 0, "no identification unless given");
+    char text[1024];
+    snprintf(text, sizeof text, "%sid: H-0042\ndate_of_birth: 1956-02-29\nsurgeon: Dr A. Example\n", OK_OD);
+    rc = load_text(text, &p, &e);
+    CHECK(rc == KT_OK && strcmp(p.id, "H-0042") == 0 && strcmp(p.dob, "1956-02-29") == 0 &&
+              strcmp(p.surgeon, "Dr A. Example") == 0, "id, date_of_birth (a leap day), surgeon: %s", e.msg);
+    rc = load_text(OK_OD, &p, &e);
     CHECK_NEAR(p.ant.r_steep, 337.5 / 44.75, 1e-12, "anterior steep radius");
     CHECK_NEAR(p.ant.r_flat, 337.5 / 43.25, 1e-12, "anterior flat radius");
     CHECK_NEAR(p.ant.axis, 95, 1e-12, "steep axis");
@@ -65,6 +72,18 @@ static void test_ok(void)
     CHECK_NEAR(p.post.axis, 90, 0, "default posterior steep axis vertical");
     CHECK_NEAR(p.depth_fraction, 0.9, 0, "default depth");
     CHECK(p.target_kind == KT_TARGET_TOTAL, "default target: total corneal");
+    CHECK_NEAR(p.wtw, 11.7, 0, "default white-to-white");
+    CHECK_NEAR(p.wtw_v, 11.7 - 1.1, 0, "default vertical white-to-white: 1.1 mm less");
+    /* white_to_white: a length (the horizontal, the vertical 1.1 mm less) or both */
+    rc = load_text("eye: OD\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg},"
+                   " white_to_white: 12.1 mm}\n", &p, &e);
+    CHECK(rc == KT_OK && p.wtw == 12.1 && p.wtw_v == 12.1 - 1.1, "white_to_white: 12.1 mm: %s", e.msg);
+    rc = load_text("eye: OD\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg},"
+                   " white_to_white: {horizontal: 11.6 mm, vertical: 10.7 mm}}\n", &p, &e);
+    CHECK(rc == KT_OK && p.wtw == 11.6 && p.wtw_v == 10.7, "white_to_white both: %s", e.msg);
+    /* the chord at the zone on the oval: shorter than the circle's about 90 deg */
+    double ch90 = kt_patient_zone_chord(&p, 90, 60), ch0 = kt_patient_zone_chord(&p, 0, 60);
+    CHECK(ch90 < ch0 && ch0 < p.zone * sin(30 * KT_PI / 180), "chords on the oval zone: %g at 90, %g at 0 deg", ch90, ch0);
 
     /* The left eye: temporal is 0 deg, nasal 180 deg; superior 90 in both. */
     const char *os = "eye: OS\nage: 70\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 180 deg}}\n"
@@ -136,6 +155,21 @@ static void test_bad(void)
         {"eye: OD\nage: 68\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n"
          "constraints: {clearance: 100 deg}\n",
          "p.yaml:4:26: constraints.clearance"},
+        {"eye: OD\nage: 68\ncornea:\n  keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}\n"
+         "  white_to_white: {horizontal: 11.5 mm, vertical: 11.9 mm}\n",
+         "p.yaml:5:51: cornea.white_to_white.vertical: expected at most the horizontal diameter (11.5 mm)"},
+        {"eye: OD\nage: 68\ncornea:\n  keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}\n"
+         "  white_to_white: {horizontal: 12.5 mm, vertical: 8.5 mm}\n",
+         "p.yaml:5:51: cornea.white_to_white.vertical: expected at least 8.9 mm"},
+        {"eye: OD\nage: 68\ncornea:\n  keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}\n"
+         "  white_to_white: {vertical: 7 mm}\n",
+         "p.yaml:5:30: cornea.white_to_white.vertical: expected a length in [8, 14] mm"},
+        {"eye: OD\nage: 68\ndate_of_birth: 1957-02-29\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n",
+         "p.yaml:3:16: date_of_birth: expected a date YYYY-MM-DD (a day of 1900-2100), got '1957-02-29'"},
+        {"eye: OD\nage: 68\ndate_of_birth: 14/03/1956\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n",
+         "p.yaml:3:16: date_of_birth: expected a date YYYY-MM-DD"},
+        {"eye: OD\nage: 68\nsurgeon: [a, b]\ncornea: {keratometry: {k_steep: 44 D, k_flat: 43 D, steep_axis: 90 deg}}\n",
+         "p.yaml:3:10: surgeon"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         kt_patient p;
@@ -225,6 +259,7 @@ static void test_scene(void)
     CHECK_NEAR(kt_eye_thickness(&s.eye, 10.5 / 2), 0.64, 1e-9, "pachymetry at the zone");
     CHECK_NEAR(s.mat[0].E1, base.mat[0].E1 * (1 + 0.075 * 0.8), 1e-12, "age rule on the cornea (68 y)");
     CHECK(s.eye.nring == 1 && fabs(s.eye.ring[0].diameter - 10.5) < 1e-12, "one ring at the zone");
+    CHECK(s.eye.wtw == p.wtw && s.eye.wtw_v == p.wtw_v, "the patient's white-to-white, both diameters");
     char path[128];
     snprintf(path, sizeof path, "%s/scene.yaml", dir);
     FILE *f = fopen(path, "w");
@@ -234,7 +269,8 @@ static void test_scene(void)
     CHECK(rc == KT_OK, "written scene reads back: %s", e.msg);
     if (rc != KT_OK) return;
     CHECK(back.eye.r_ant_steep == s.eye.r_ant_steep && back.eye.r_post == s.eye.r_post &&
-              back.eye.t_peripheral == s.eye.t_peripheral && back.eye.h_floor == s.eye.h_floor,
+              back.eye.t_peripheral == s.eye.t_peripheral && back.eye.h_floor == s.eye.h_floor &&
+              back.eye.wtw == s.eye.wtw && back.eye.wtw_v == s.eye.wtw_v,
           "eye fields read back exactly");
     CHECK(back.nmat == s.nmat && back.mat[0].Gt == s.mat[0].Gt && back.mat[2].E == s.mat[2].E, "materials read back");
     CHECK(back.pressure[0].p == s.pressure[0].p && back.reference == s.reference, "loads read back");

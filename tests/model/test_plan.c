@@ -1,5 +1,7 @@
 /* test_plan.c: plan files read back field by field, and every kind of bad plan refused with
- * the file, line and column of the offending field. */
+ * the file, line and column of the offending field; a plan built in memory (kt_plan_add_*)
+ * resolves as the same plan read from a file does, and kt_plan_write_eye writes it so that
+ * kt_plan_load reads the same values back. */
 #define _XOPEN_SOURCE 700
 #include <limits.h>
 #include <math.h>
@@ -12,6 +14,7 @@
 #include "grid.h"
 #include "kt_test.h"
 #include "plan.h"
+#include "plan_write.h"
 
 static char dir[64];
 static char eye_scene[PATH_MAX], beam_scene[PATH_MAX];
@@ -242,6 +245,53 @@ static void test_mesh_check(void)
     free(p);
 }
 
+/* The same LRI plan built in memory and read from the file the writer makes of it. */
+static void test_memory(void)
+{
+    kt_err e = {0};
+    kt_plan *m = calloc(1, sizeof *m), *f = calloc(1, sizeof *f), *y = calloc(1, sizeof *y);
+    const char *path = write_plan("mem-scene.yaml", eye_scene, "incisions:\n  - {meridian: 0 deg, arc: 10 deg, depth: 500 um, "
+                                  "position: {diameter: 10.5 mm}}\n");
+    CHECK(kt_plan_load(path, y, &e) == 0, "a plan to take the scene from: %s", e.msg);
+    kt_plan_init(m, &y->scene, "in-memory");
+    m->prog.degrees_per_step = 5;
+    kt_tunnel t = {0};
+    t.meridian = 180, t.width = 2.4, t.length = KT_TUNNEL_LENGTH, t.entry_diameter = y->scene.eye.wtw, t.steps = 4;
+    kt_incision in;
+    memset(&in, 0, sizeof in);
+    in.meridian = 95, in.arc = 45, in.arc_opposite = 30, in.paired = 1, in.depth_fraction = 0.9;
+    in.direction = KT_BLADE_CENTRE_OUT, in.prog = m->prog;
+    snprintf(in.surface, sizeof in.surface, "incision-ring-1");
+    CHECK(kt_plan_add_tunnel(m, &t, &e) == 0 && kt_plan_add_incision(m, &in, &e) == 0, "built in memory: %s", e.msg);
+    double t_ring = kt_eye_thickness(&y->scene.eye, 0.5 * 10.5);
+    CHECK(fabs(m->inc[0].diameter - 10.5) < 1e-12 && fabs(m->inc[0].depth - 0.9 * t_ring) < 1e-12,
+          "the ring's diameter and the depth resolved (%g mm, %g mm)", m->inc[0].diameter, m->inc[0].depth);
+    m->target.set = 1, m->target.magnitude = 1.25, m->target.axis = 95;
+    char out[300];
+    snprintf(out, sizeof out, "%s/written.yaml", dir);
+    FILE *w = fopen(out, "w");
+    CHECK(w && kt_plan_write_eye(w, m, "in-memory", eye_scene, "a test", &e) == 0, "written: %s", e.msg);
+    if (w) fclose(w);
+    CHECK(kt_plan_load(out, f, &e) == 0, "read back: %s", e.msg);
+    const kt_incision *a = &m->inc[0], *b = &f->inc[0];
+    CHECK(f->ninc == 1 && f->ntunnel == 1 && a->meridian == b->meridian && a->arc == b->arc && a->arc_opposite == b->arc_opposite &&
+              a->depth == b->depth && a->diameter == b->diameter && a->paired == b->paired && a->direction == b->direction &&
+              a->prog.degrees_per_step == b->prog.degrees_per_step && strcmp(a->surface, b->surface) == 0,
+          "the incision reads back the same");
+    const kt_tunnel *ta = &m->tunnel[0], *tb = &f->tunnel[0];
+    CHECK(ta->meridian == tb->meridian && ta->width == tb->width && ta->length == tb->length &&
+              ta->entry_diameter == tb->entry_diameter && ta->steps == tb->steps && ta->exit[2] == tb->exit[2],
+          "the tunnel reads back the same, its plane derived the same");
+    CHECK(f->target.set && f->target.magnitude == 1.25 && f->target.axis == 95, "the target");
+    in.arc = 200;
+    CHECK(kt_plan_add_incision(m, &in, &e) == KT_EINPUT, "a paired arc over 180 deg is refused");
+    memset(&e, 0, sizeof e);
+    in.arc = 30, in.depth_fraction = 0, in.depth = 5;
+    CHECK(kt_plan_add_incision(m, &in, &e) == KT_EINPUT && strstr(e.msg, "incisions[1].depth: expected less than the local "
+                                                                  "thickness"), "too deep: '%s'", e.msg);
+    free(m), free(f), free(y);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/kt-test-plan-XXXXXX");
@@ -254,6 +304,7 @@ int main(void)
     test_bad();
     test_limits();
     test_mesh_check();
+    test_memory();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);

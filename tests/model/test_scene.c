@@ -69,6 +69,7 @@ static void test_eye_plan(void)
     CHECK_NEAR(s.eye.t_central, 0.540, 1e-15, "540 um in mm");
     CHECK_NEAR(s.eye.t_peripheral, 0.670, 1e-15, "670 um in mm");
     CHECK_NEAR(s.eye.wtw, 11.7, 0, "white to white");
+    CHECK_NEAR(s.eye.wtw_v, 10.6, 0, "vertical white to white: a horizontally oval cornea");
     CHECK(s.eye.nring == 1 && strcmp(s.eye.ring[0].name, "incision-ring-1") == 0, "ring name");
     CHECK_NEAR(s.eye.ring[0].diameter, 10.5, 0, "ring diameter");
     CHECK_NEAR(s.eye.ring[0].depth_fraction, 0.9, 0, "ring depth fraction");
@@ -189,10 +190,40 @@ static void test_bad_scenes(void)
     reject("halo", "ordering: {halo: 4}\n", 1, 18, "ordering.halo: expected an integer in [0, 3]");
     reject("below-eye", "fixation:\n  - below: {axis: y, value: 0 mm}\n", 2, 12, "expected only on box");
     reject("extent", "eye:\n  extent: 20 deg\n", 2, 11, "eye.extent: expected more than the polar angle");
+    reject("wtw-vertical", "eye:\n  white_to_white: {horizontal: 11.7 mm, vertical: 11.8 mm}\n", 2, 51,
+           "eye.white_to_white.vertical: expected at most the horizontal diameter (11.7 mm)");
+    reject("wtw-flat", "eye:\n  white_to_white: {horizontal: 11.7 mm, vertical: 8.5 mm}\n", 2, 51,
+           "eye.white_to_white.vertical: expected at least 8.74 mm");
+    reject("wtw-key", "eye:\n  white_to_white: {horizontal: 11.7 mm, vertikal: 10 mm}\n", 2, 41, "unknown key 'vertikal'");
+    reject("wtw-unit", "eye:\n  white_to_white: {vertical: 10.6}\n", 2, 30, "without a unit");
     reject("floor-bound", "eye:\n  mesh_size: {incision_floor: 4 um}\n", 2, 31,
            "eye.mesh_size.incision_floor: expected a length in [0.005, 1] mm");
     reject("floor-coarse", "eye:\n  mesh_size: {incision: 0.1 mm, incision_floor: 0.15 mm}\n", 2, 49,
            "eye.mesh_size.incision_floor: expected at most mesh_size.incision (0.1 mm)");
+}
+
+/* eye.white_to_white: a length is the horizontal diameter, the vertical one 1.1 mm less (the
+ * population means, keratome-scene(5)); {horizontal, vertical}, either alone; written back. */
+static void test_wtw(void)
+{
+    struct { const char *text; double h, v; } ok[] = {
+        {"model: eye\n", 11.7, 10.6},
+        {"eye:\n  white_to_white: 12.1 mm\n", 12.1, 12.1 - 1.1},
+        {"eye:\n  white_to_white: {horizontal: 11.5 mm, vertical: 10.2 mm}\n", 11.5, 10.2},
+        {"eye:\n  white_to_white: {horizontal: 11.2 mm}\n", 11.2, 11.2 - 1.1},
+        {"eye:\n  white_to_white: {vertical: 10.9 mm}\n", 11.7, 10.9},
+        {"eye:\n  white_to_white: {horizontal: 11.7 mm, vertical: 11.7 mm}\n", 11.7, 11.7},
+    };
+    for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
+        char path[128];
+        snprintf(path, sizeof path, "%s/wtw-%zu.yaml", dir, i);
+        write_file(path, ok[i].text);
+        kt_scene s;
+        kt_err e = {0};
+        CHECK(kt_scene_load(path, &s, &e) == 0, "%s", e.msg);
+        CHECK_NEAR(s.eye.wtw, ok[i].h, 0, "horizontal white-to-white");
+        CHECK_NEAR(s.eye.wtw_v, ok[i].v, 0, "vertical white-to-white");
+    }
 }
 
 /* eye.mesh_size.incision_floor in mm; the floor is refined in the ordering's sector. */
@@ -297,6 +328,7 @@ int main(void)
     test_beam_plans();
     test_bad_scenes();
     test_floor();
+    test_wtw();
     test_on_mesh();
     test_wound();
     char cmd[128];

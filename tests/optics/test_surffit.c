@@ -128,6 +128,169 @@ static void test_pachy(void)
     kt_pentacam_free(&m);
 }
 
+/* An eye whose base anterior is the fitted toric (radii and axis), the rest the defaults of
+ * keratome-scene(5). */
+static void base_eye(kt_eye *eye, const kt_surffit *f)
+{
+    memset(eye, 0, sizeof *eye);
+    eye->r_ant_steep = f->r_steep, eye->r_ant_flat = f->r_flat, eye->steep_axis = f->axis;
+    eye->r_post = eye->r_post_steep = eye->r_post_flat = 6.7, eye->post_axis = 90;
+    eye->t_central = 0.54, eye->t_peripheral = 0.67, eye->wtw = 11.7, eye->limbus_width = 1;
+    eye->sclera_thickness = 0.53, eye->globe_radius = 12, eye->extent = 90, eye->optical_zone = 7;
+    eye->h_optical = 0.25, eye->h_incision = 0.15, eye->h_cornea = 0.4, eye->h_sclera = 1.2;
+    eye->dep_ant.conic = f->conic; /* lri-plan's base: aspheric with the fit's Q */
+}
+
+/* Read and fit one synthetic front map; its base eye. */
+static int front(const char *name, const synth_surface *s, kt_pentacam_map *m, kt_surffit *f, kt_eye *eye)
+{
+    char p[128];
+    kt_err e = {0};
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    if (synth_write(p, s, NULL, ';', 1, 0, 6.5) != 0) return -1;
+    int rc = kt_pentacam_read(p, KT_PENTACAM_ELEVATION, m, &e);
+    if (rc == KT_OK) rc = kt_surffit_elevation(m, KT_SURFFIT_ZONE, f, &e);
+    if (rc != KT_OK) fprintf(stderr, "%s: %s\n", name, e.msg);
+    if (rc == KT_OK) base_eye(eye, f);
+    return rc;
+}
+
+/* Max |D1 - D0| over the zone (rho <= d0->radius) and over the taper, every 0.05 mm and 2 deg. */
+static void dep_diff(const kt_eye_departure *d0, const kt_eye_departure *d1, double *zone, double *taper)
+{
+    double p0[KT_ZERN_NP * KT_ZERN_NP], p1[KT_ZERN_NP * KT_ZERN_NP];
+    kt_eye_departure_poly(d0, p0);
+    kt_eye_departure_poly(d1, p1);
+    *zone = *taper = 0;
+    for (double r = 0; r < d0->taper; r += 0.05)
+        for (int k = 0; k < 180; k++) {
+            double x = r * cos(k * KT_PI / 90), y = r * sin(k * KT_PI / 90);
+            double v = fabs(kt_eye_departure_at(d1, p1, x, y) - kt_eye_departure_at(d0, p0, x, y));
+            if (r <= d0->radius) *zone = fmax(*zone, v);
+            else *taper = fmax(*taper, v);
+        }
+}
+
+/* The order against measurement noise: the map with 1 um RMS of white noise added (a fixed
+ * pseudo-random sequence), each order's departure against the noise-free map's at order 10.
+ * The extension beyond the zone uses the expansion's slope and curvature at the rim, which
+ * noise bends more the higher the order: printed, and order KT_SURFFIT_DEP_ORDER within 1 um in
+ * the zone and 3 um in the taper, order 10 at least twice as far off in the taper. */
+static void noisy_orders(const kt_pentacam_map *m, const kt_eye *eye)
+{
+    kt_pentacam_map mn = *m;
+    kt_eye_departure d0, d;
+    kt_err e = {0};
+    double rms, mx, zone, taper, t_dep = NAN, t_10 = NAN, z_dep = NAN;
+    int np;
+    unsigned s = 12345;
+    mn.v = malloc(sizeof(double) * m->n * m->n);
+    if (!mn.v) return;
+    for (int i = 0; i < m->n * m->n; i++) {
+        double u[2];
+        for (int k = 0; k < 2; k++) s = s * 1103515245u + 12345u, u[k] = ((s >> 8) + 0.5) / 16777216.0;
+        mn.v[i] = m->v[i] + 1e-3 * sqrt(-2 * log(u[0])) * cos(2 * KT_PI * u[1]);
+    }
+    CHECK(kt_surffit_departure(m, eye, 0, 10, 4, 5.85, &d0, &rms, &mx, &np, &e) == KT_OK, "noise-free: %s", e.msg);
+    printf("with 1 um RMS of noise: order, residual rms / max um, departure off by (max, um) in the zone, in the taper\n");
+    for (int order = 4; order <= 10; order++) {
+        CHECK(kt_surffit_departure(&mn, eye, 0, order, 4, 5.85, &d, &rms, &mx, &np, &e) == KT_OK, "noisy: %s", e.msg);
+        dep_diff(&d0, &d, &zone, &taper);
+        printf("%5d  %6.3f %6.3f  %6.3f  %6.3f\n", order, 1000 * rms, 1000 * mx, 1000 * zone, 1000 * taper);
+        if (order == KT_SURFFIT_DEP_ORDER) t_dep = taper, z_dep = zone;
+        if (order == 10) t_10 = taper;
+    }
+    CHECK(z_dep < 1e-3 && t_dep < 3e-3 && t_10 > 2 * t_dep, "order %d off by %.3f um in the zone, %.3f um in the taper; "
+          "order 10 %.3f um", KT_SURFFIT_DEP_ORDER, 1000 * z_dep, 1000 * t_dep, 1000 * t_10);
+    free(mn.v);
+}
+
+/* The measured surface's departure from the mesh's base (kt_surffit_departure): none for the
+ * mesh's own toric (Q = 0, apex on the axis); a coma-like term kappa u r^2 gives the analytic
+ * coefficients (u r^2 = a^3 rho^3 cos(t - axis), rho^3 cos t = Z_8 / (3 sqrt 8) + Z_2 / 3, the sine
+ * part likewise with Z_7 and Z_1; the tilts Z_1, Z_2 left out); on the aspheric, decentred,
+ * asymmetric front of asym-od.yaml, on lri-plan's base (aspheric with the fit's Q), the residual
+ * falls with the order (the table printed is keratome-patient(5)'s, THE FIT) and is below 0.1 um
+ * at lri-plan's order; with noise, noisy_orders; kt_surffit_measured_eye fills the eye, shrinks
+ * the zone to what a map measures and refuses a map that measures too little. */
+static void test_departure(void)
+{
+    synth_surface toric = {7.55, 7.80, 95, 0, 0, 0, 0}, coma = {7.55, 7.80, 95, 0, 0, 0, -4e-4};
+    synth_surface asym = {337.5 / 44.75, 337.5 / 43.00, 92, -0.2, 0.04, -0.02, -4e-4};
+    kt_pentacam_map m;
+    kt_surffit f;
+    kt_eye eye;
+    kt_eye_departure d;
+    kt_err e = {0};
+    double rms, mx;
+    int np;
+    if (front("dep_toric.csv", &toric, &m, &f, &eye) == KT_OK) {
+        eye.r_ant_steep = 7.55, eye.r_ant_flat = 7.80, eye.steep_axis = 95, eye.dep_ant.conic = 0; /* the exact toric */
+        CHECK(kt_surffit_departure(&m, &eye, 0, 8, 4, 5.85, &d, &rms, &mx, &np, &e) == KT_OK, "toric: %s", e.msg);
+        double big = 0;
+        for (int j = 0; j < 45; j++) big = fmax(big, fabs(d.coef[j]));
+        CHECK(big < 1e-9 && mx < 1e-9, "the mesh's own toric: no departure (largest coefficient %.3g mm, residual %.3g)", big,
+              mx);
+        CHECK(np > 4000 && d.order == 8 && d.radius == KT_SURFFIT_ZONE / 2 && d.taper == 5.85, "%d cells, order %d", np,
+              d.order);
+        kt_pentacam_free(&m);
+    }
+    if (front("dep_coma.csv", &coma, &m, &f, &eye) == KT_OK) {
+        eye.r_ant_steep = 7.55, eye.r_ant_flat = 7.80, eye.steep_axis = 95, eye.dep_ant.conic = 0;
+        CHECK(kt_surffit_departure(&m, &eye, 0, 8, 4, 5.85, &d, &rms, &mx, &np, &e) == KT_OK, "coma: %s", e.msg);
+        double k3 = 4e-4 * 64, t = 95 * KT_PI / 180, want[45] = {0};
+        want[8] = k3 * cos(t) / (3 * sqrt(8)), want[7] = k3 * sin(t) / (3 * sqrt(8));
+        double worst = 0;
+        for (int j = 0; j < 45; j++) worst = fmax(worst, fabs(d.coef[j] - want[j]));
+        CHECK(worst < 1e-9 && rms < 1e-9, "coma: the analytic coefficients (Z_8 %.6f mm, Z_7 %.6f mm; the tilt left out), "
+              "worst %.3g mm", d.coef[8], d.coef[7], worst);
+        kt_pentacam_free(&m);
+    }
+    if (front("dep_asym.csv", &asym, &m, &f, &eye) == KT_OK) {
+        double prev = INFINITY;
+        int mono = 1;
+        printf("departure of the asymmetric front (asym-od) from its fitted toric, %g mm zone:\n"
+               "order  terms  rms um   max um  |D| max in the zone, in the taper (um)\n", KT_SURFFIT_ZONE);
+        for (int order = 4; order <= 10; order++) {
+            CHECK(kt_surffit_departure(&m, &eye, 0, order, 4, 5.85, &d, &rms, &mx, &np, &e) == KT_OK, "asym: %s", e.msg);
+            double poly[KT_ZERN_NP * KT_ZERN_NP], din = 0, dout = 0;
+            kt_eye_departure_poly(&d, poly);
+            for (double r = 0; r < 5.85; r += 0.05)
+                for (int k = 0; k < 180; k++) {
+                    double v = fabs(kt_eye_departure_at(&d, poly, r * cos(k * KT_PI / 90), r * sin(k * KT_PI / 90)));
+                    if (r <= d.radius) din = fmax(din, v);
+                    else dout = fmax(dout, v);
+                }
+            printf("%5d  %5d  %7.4f  %7.4f  %6.2f  %6.2f  (%d cells)\n", order, kt_zern_nterms(order), 1000 * rms, 1000 * mx,
+                   1000 * din, 1000 * dout, np);
+            mono &= rms <= prev;
+            prev = rms;
+            if (order == KT_SURFFIT_DEP_ORDER)
+                CHECK(rms < 1e-4 && mx < 1e-3, "order %d: residual rms %.4f um, max %.4f um", order, 1000 * rms, 1000 * mx);
+        }
+        CHECK(mono, "the residual falls with the order");
+        noisy_orders(&m, &eye);
+        kt_patient p;
+        memset(&p, 0, sizeof p);
+        snprintf(p.pentacam_front, sizeof p.pentacam_front, "%s/dep_asym.csv", dir);
+        kt_surffit fa = f;
+        CHECK(kt_surffit_measured_eye(&p, &eye, &fa, NULL, &e) == KT_OK, "measured eye: %s", e.msg);
+        CHECK(eye.dep_ant.order == KT_SURFFIT_DEP_ORDER && eye.dep_ant.taper == 0.5 * eye.wtw && eye.dep_post.order == 0 &&
+              fa.dep_order == KT_SURFFIT_DEP_ORDER && fa.dep_rms > 0 && fa.dep_radius == 4,
+              "the eye carries the front's departure (taper %g mm), none behind", eye.dep_ant.taper);
+        /* A map measured out to 3.1 mm only: the zone shrinks to what it covers; to 1.5 mm: refused. */
+        snprintf(p.pentacam_front, sizeof p.pentacam_front, "%s/dep_small.csv", dir);
+        CHECK(synth_write(p.pentacam_front, &asym, NULL, ';', 1, 0, 3.1) == 0, "write");
+        CHECK(kt_surffit_measured_eye(&p, &eye, &fa, NULL, &e) == KT_OK && fa.dep_radius <= 3.1 && fa.dep_radius >= 2.75,
+              "a map measured to 3.1 mm: zone radius %g mm (%s)", fa.dep_radius, e.msg);
+        CHECK(synth_write(p.pentacam_front, &asym, NULL, ';', 1, 0, 1.5) == 0, "write");
+        kt_err e2 = {0};
+        CHECK(kt_surffit_measured_eye(&p, &eye, &fa, NULL, &e2) == KT_EINPUT && strstr(e2.msg, "dep_small.csv"),
+              "a map measured to 1.5 mm: %s", e2.msg);
+        kt_pentacam_free(&m);
+    }
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/kt-surffit-XXXXXX");
@@ -135,6 +298,7 @@ int main(void)
     test_pair();
     test_halves();
     test_pachy();
+    test_departure();
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0) return 1;

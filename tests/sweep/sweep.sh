@@ -18,13 +18,20 @@
 #
 # The full grid (the default): OD and OS, steep axis 0-175 deg every 5, white-to-white 11.0-12.5
 # mm every 0.5, main incision 2.2 and 2.8 mm at each of the eight named sites of
-# keratome-patient(5), --fast and the default mesh: 2 x 36 x 4 x 2 x 8 x 2 = 9216 runs, about
-# 40 CPU s each with --fast and 15-20 CPU min with the default mesh: days on one core. In
+# keratome-patient(5), --fast and the default mesh: 2 x 36 x 4 x 2 x 8 x 2 = 9216 runs, 17-39
+# CPU s each with --fast and 49-105 CPU s with the default mesh (the healed default, a sample of
+# 40 and 6: docs/every-eye.md): days on one core. In
 # parallel (GNU parallel; each run takes 1-2.5 GB):
 #   tests/sweep/sweep.sh cases | parallel -j2 --colsep ' ' tests/sweep/sweep.sh one build OUT {} \
 #       > OUT/rows.tsv
 # KT_SWEEP_MODES, KT_SWEEP_WTW, KT_SWEEP_WIDTHS, KT_SWEEP_SITES, KT_SWEEP_AXES narrow it (space-
 # separated lists). The smoke subset: the hardest cases found, --fast (tests/lriplan_sweep.sh).
+# KT_SWEEP_SAMPLE=N: instead of the grid, a stratified sample of N cases per mode, reproducible
+# (KT_SWEEP_SEED, default 34): case i at site i mod 8 (of KT_SWEEP_SITES), the eyes alternating
+# from site to site and round to round, white-to-white at the list's two extremes and the two
+# widths balanced within each site, the steep axes spread over the whole list (N bins, a seeded shuffle of the
+# bins, one axis drawn in each), e.g. KT_SWEEP_MODES=fast KT_SWEEP_SAMPLE=40 sweep.sh cases.
+# KT_SWEEP_NICE: the niceness `run` adds to each case (default 10).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -43,11 +50,40 @@ cases() {
     local widths=${KT_SWEEP_WIDTHS:-2.2 2.8}
     local sites=${KT_SWEEP_SITES:-temporal nasal superior inferior superotemporal superonasal inferotemporal inferonasal}
     local axes=${KT_SWEEP_AXES:-$(seq 0 5 175)}
+    if [ -n "${KT_SWEEP_SAMPLE:-}" ]; then
+        sample "$KT_SWEEP_SAMPLE" "${KT_SWEEP_SEED:-34}" "$modes" "$wtws" "$widths" "$sites" "$axes"
+        return
+    fi
     for mode in $modes; do for eye in OD OS; do for axis in $axes; do for w in $wtws; do
         for width in $widths; do for site in $sites; do
             echo "$eye $axis $w $width $site $mode"
         done; done
     done; done; done; done
+}
+
+# The stratified sample (KT_SWEEP_SAMPLE above): N SEED MODES WTWS WIDTHS SITES AXES.
+sample() {
+    "$py" - "$@" <<'PY'
+import random, sys
+n, seed = int(sys.argv[1]), int(sys.argv[2])
+modes, wtws, widths, sites, axes = (a.split() for a in sys.argv[3:8])
+if n < 1: sys.exit("sweep: KT_SWEEP_SAMPLE must be a positive count")
+ext = [wtws[0], wtws[-1]]
+for mode in modes:
+    rng = random.Random(f"{seed}/{mode}")
+    bins = list(range(n))
+    rng.shuffle(bins)
+    for i in range(n):
+        ns = len(sites)
+        r = i // ns                     # the round of sites
+        s = i % ns
+        eye = ("OD", "OS")[(r + s) % 2]  # per site, rounds 0-3 take the four (eye, wtw, width)
+        wtw = ext[(r // 2 + s) % 2]       # corners of a half factorial: each eye with both
+        width = widths[((r + 1) // 2 + s // 2) % len(widths)]  # extremes and both widths
+        lo, hi = bins[i] * len(axes) // n, max(bins[i] * len(axes) // n + 1, (bins[i] + 1) * len(axes) // n)
+        axis = axes[rng.randrange(lo, hi)]
+        print(eye, axis, wtw, width, sites[s], mode)
+PY
 }
 
 # One case: a patient of 1.50 D at the axis (K 44.60 / 43.10 D), 67 years, 640 um at the zone.
@@ -117,7 +153,7 @@ run() {
         local key="$eye-$axis-$wtw-$width-$site-$mode"
         [ -s "$out/rows/$key.tsv" ] && continue
         echo "sweep: $n/$total $key" >&2
-        nice -n 10 bash "$here/sweep.sh" one "$B" "$out" $eye $axis $wtw $width $site $mode > "$out/rows/$key.tmp" &&
+        nice -n "${KT_SWEEP_NICE:-10}" bash "$here/sweep.sh" one "$B" "$out" $eye $axis $wtw $width $site $mode > "$out/rows/$key.tmp" &&
             mv "$out/rows/$key.tmp" "$out/rows/$key.tsv"
     done < "$out/cases"
     table "$out"
@@ -152,5 +188,5 @@ case "${1:-}" in
     run) shift; run "$@" ;;
     long) shift; [ "${KT_LONG:-}" = 1 ] || { echo "sweep: the full sweep runs with KT_LONG=1" >&2; exit 77; }; run "$@" ;;
     table) shift; table "$@" ;;
-    *) sed -n '2,24p' "$0" >&2; exit 2 ;;
+    *) sed -n '2,34p' "$0" >&2; exit 2 ;;
 esac
