@@ -6,19 +6,26 @@
 
 #include "pentacam.h"
 
+/* The elevation map `which` fitted into *fit, and with halves not NULL the steep meridian's
+ * half-meridians into *halves; the fit's radii, axis and asphericity copied to the patient's
+ * surface *t. */
+static int fit_map(kt_patient *p, int which, kt_surffit *fit, kt_halfmer *halves, kt_toric *t, kt_err *e)
+{
+    kt_pentacam_map m;
+    if (kt_patient_read_map(p, which, &m, e)) return e->code;
+    int rc = kt_surffit_elevation(&m, KT_SURFFIT_ZONE, fit, e);
+    if (rc == KT_OK && halves) rc = kt_surffit_halves(&m, fit, halves, e);
+    kt_pentacam_free(&m);
+    if (rc) return rc;
+    t->r_steep = fit->r_steep, t->r_flat = fit->r_flat, t->axis = fit->axis, t->conic = fit->conic;
+    return KT_OK;
+}
+
 /* The anterior surface from the Pentacam elevation map, and its half-meridians. */
 static int fit_front(kt_lp_eye *a, kt_err *e)
 {
-    kt_patient *p = &a->p;
-    kt_pentacam_map m;
-    if (kt_patient_read_map(p, KT_PF_FRONT, &m, e)) return e->code;
-    int rc = kt_surffit_elevation(&m, KT_SURFFIT_ZONE, &a->fit_ant, e);
-    if (rc == KT_OK) rc = kt_surffit_halves(&m, &a->fit_ant, &a->halves, e);
-    kt_pentacam_free(&m);
-    if (rc) return rc;
+    if (fit_map(&a->p, KT_PF_FRONT, &a->fit_ant, &a->halves, &a->p.ant, e)) return e->code;
     a->halves_ok = 1;
-    p->ant.r_steep = a->fit_ant.r_steep, p->ant.r_flat = a->fit_ant.r_flat;
-    p->ant.axis = a->fit_ant.axis, p->ant.conic = a->fit_ant.conic;
     return KT_OK;
 }
 
@@ -32,14 +39,8 @@ static int fit_back(kt_lp_eye *a, kt_err *e)
         if (p->post.source == KT_SOURCE_DEFAULT) kt_patient_default_posterior(&p->ant, &p->post);
         return KT_OK;
     }
-    kt_pentacam_map m;
-    if (kt_patient_read_map(p, KT_PF_BACK, &m, e)) return e->code;
-    int rc = kt_surffit_elevation(&m, KT_SURFFIT_ZONE, &a->fit_post, e);
-    kt_pentacam_free(&m);
-    if (rc) return rc;
+    if (fit_map(p, KT_PF_BACK, &a->fit_post, NULL, &p->post, e)) return e->code;
     a->fit_post_ok = 1;
-    p->post.r_steep = a->fit_post.r_steep, p->post.r_flat = a->fit_post.r_flat;
-    p->post.axis = a->fit_post.axis, p->post.conic = a->fit_post.conic;
     return KT_OK;
 }
 
