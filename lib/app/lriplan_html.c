@@ -146,7 +146,13 @@ static void band_html(const kt_lp_answer *a, FILE *f)
                "post-operative keratometric %.2f&ndash;%.2f D, total corneal %.2f&ndash;%.2f D.",
             b->residual.lo, b->residual.hi, b->sia_sd, b->post_kerato.lo, b->post_kerato.hi, b->post_total.lo, b->post_total.hi);
     if (a->run.left[0]) fprintf(f, " Left out (no derivative): %s.", a->run.left);
-    fprintf(f, " The surgeon, the blade and healing are not in it.</p>\n");
+    double cv = a->scene.s.unc.nontissue_cv;
+    if (cv > 0)
+        fprintf(f, " With the tissue's, the eye-to-eye spread that no tissue quantity carries (healing, the blade, "
+                   "keratometry): a coefficient of variation of %.2f of the SIA along itself, from the clinical "
+                   "studies' SDs (docs/validation.md).</p>\n", cv);
+    else
+        fprintf(f, " The surgeon, the blade and healing's eye-to-eye spread are not in it (uncertainty.nontissue_cv 0).</p>\n");
 }
 
 /* An astigmatism as the sheet prints it: 0.01 D @ 1 deg, each number tied to plan.json. */

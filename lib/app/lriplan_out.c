@@ -389,10 +389,10 @@ static void summary_band(const kt_lp_answer *a, FILE *s)
 {
     const kt_lp_bands *b = &a->band;
     if (!b->on) return;
-    fprintf(s, "  band (2-D, tissue quantities): residual 90%% %.2f-%.2f D (SIA sd %.2f D); post-op keratometric 90%% "
-               "%.2f-%.2f D, total corneal %.2f-%.2f D\n",
-            b->residual.lo, b->residual.hi, b->sia_sd, b->post_kerato.lo, b->post_kerato.hi, b->post_total.lo,
-            b->post_total.hi);
+    fprintf(s, "  band (2-D; tissue quantities, non-tissue cv %.2f): residual 90%% %.2f-%.2f D (SIA sd %.2f D); "
+               "post-op keratometric 90%% %.2f-%.2f D, total corneal %.2f-%.2f D\n",
+            a->scene.s.unc.nontissue_cv, b->residual.lo, b->residual.hi, b->sia_sd, b->post_kerato.lo,
+            b->post_kerato.hi, b->post_total.lo, b->post_total.hi);
     if (a->run.left[0]) fprintf(s, "    left out of the band (no derivative): %s\n", a->run.left);
 }
 

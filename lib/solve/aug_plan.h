@@ -89,7 +89,7 @@ typedef struct kt_plan_factor {
     int nsuper, root_cols;
     int reused_order;           /* 1: the intact block is in the given order (perm0), no METIS run */
     int refused;                /* 1: the planned factor is too large (why), not factored */
-    char why[256];
+    char why[384];
 } kt_plan_factor;
 
 /* Default of max_ratio (augsolve --plan-max-ratio): the planned factor may hold this many
@@ -99,11 +99,23 @@ typedef struct kt_plan_factor {
  * on its 15,000 increments; tests/bench/README.md). */
 #define KT_PLAN_MAX_RATIO 4.0
 
+/* How many times faster a flop of the planned factorization runs than a flop of a METIS
+ * refactor step, the step's assembly, ordering and analysis included: the planned factor's
+ * flops lie mostly in the increments' dense block and the dense rows below the intact columns
+ * (BLAS-3 on panels of 256 columns), a refactor step's in small supernodes, after a METIS run
+ * of its own. Measured on the demo eye (2-core machine, quiet, 2026-12-07, docs/solver.md):
+ * the planned factor 6.38e11 flops in 15.6 s (2.44e-11 s a flop), a METIS refactor step 8.45e10
+ * flops in 6.26 s (7.41e-11 s), 3.04x; wtr-od's paired family 2.04e12 flops in 44.5 s
+ * (2.18e-11 s). The size check compares the planned flops with nsteps + 1 refactor steps'
+ * at this rate: a plan is refused on cost only when refactoring would take less time. */
+#define KT_PLAN_FLOP_SPEEDUP 3.0
+
 /* Assemble A on the final mesh, order (ordering: KT_AUG_ORDER_* for K's block) and factor.
  * After the analysis, when the planned order's predicted factor holds more than max_ratio
  * times the nonzeros of the intact block's fill-reducing order (a lower bound of a fresh
- * factorization of any step, up to its new DOFs), or needs more flops than nsteps + 1 fresh
- * factorizations of it (max_ratio <= 0, or the natural order: no check), nothing is factored:
+ * factorization of any step, up to its new DOFs), or needs more flops than KT_PLAN_FLOP_SPEEDUP
+ * x (nsteps + 1) fresh factorizations of it (the time of refactoring every step; max_ratio <= 0,
+ * or the natural order: no check), nothing is factored:
  * F->refused = 1 and F->why says so (the caller falls back). */
 int kt_plan_factor_build(kt_plan_factor *F, const kt_edits_plan *p, const kt_mesh *final,
                          const kt_materials *mats, int ordering, int factor, int panel,

@@ -262,20 +262,22 @@ static int *order(kt_plan_factor *F, int ordering, const int *perm0, int nn0, kt
 
 /* The analysis's prediction against the intact block's METIS analysis: refuse when the factor
  * would hold more than max_ratio times its nonzeros (memory: the factor is most of a run's
- * peak), or take more flops than a fresh factorization at every step would (nsteps + 1 times
- * the intact block's: the plan would then cost more than refactoring). */
+ * peak), or take longer than a fresh factorization at every step would: more flops than
+ * KT_PLAN_FLOP_SPEEDUP x (nsteps + 1) times the intact block's (aug_plan.h: the plan would then
+ * cost more time than refactoring). */
 static void size_check(kt_plan_factor *F, double max_ratio, int nsteps)
 {
     F->lnz_plan = F->c.lnz;
     F->fl_plan = F->c.fl;
     if (!(max_ratio > 0) || !(F->lnz_ref > 0) || !(F->fl_ref > 0)) return;
     double rl = F->lnz_plan / F->lnz_ref, rf = F->fl_plan / F->fl_ref;
-    if (rl <= max_ratio && rf <= nsteps + 1) return;
+    double rf_max = KT_PLAN_FLOP_SPEEDUP * (nsteps + 1);
+    if (rl <= max_ratio && rf <= rf_max) return;
     F->refused = 1;
     snprintf(F->why, sizeof F->why, "its factor would hold %.3g nonzeros and take %.3g flops: "
              "%.3gx and %.3gx those of METIS on the intact block (%.3g, %.3g), beyond "
-             "--plan-max-ratio %g or the %d fresh factorizations of the plan's steps",
-             F->lnz_plan, F->fl_plan, rl, rf, F->lnz_ref, F->fl_ref, max_ratio, nsteps + 1);
+             "--plan-max-ratio %g or the time of %d fresh factorizations (%gx their flops)",
+             F->lnz_plan, F->fl_plan, rl, rf, F->lnz_ref, F->fl_ref, max_ratio, nsteps + 1, rf_max);
 }
 
 /* F->fl_* and F->x_*: the planned factor's flops and values by part (aug_plan.h). */
