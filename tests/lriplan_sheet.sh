@@ -98,6 +98,7 @@ for key, text in spans:
     tol += 0.5 * 10 ** -jdec
     diff = abs(float(text) - float(want))
     if key.endswith("axis_deg"): diff = min(diff, abs(diff - 180))  # 0 and 180 are one axis
+    if key.startswith("plan.arcs.") and key.endswith("_deg"): diff = min(diff, abs(diff - 360))  # 360 is 0 on the gauge
     if not diff <= tol: bad.append(f"{key}: page {text}, json {want}")
 check(len(spans) >= 40, f"plan.html holds {len(spans)} numbers tied to plan.json")
 check(not bad, f"every one of them agrees with plan.json ({bad[:3]})")

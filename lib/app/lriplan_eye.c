@@ -157,7 +157,7 @@ static void arcs_svg(FILE *f, const kt_patient *p, const kt_lp_arc *arcs, int na
             double e = (k ? q->to : q->from) + turn, ex = C + r * cos(e * DEG), ey = C - r * sin(e * DEG), lx, ly;
             char t[48];
             snprintf(t, sizeof t, "%s%s %.0f\xC2\xB0 (%s)", narc > 1 ? (i ? "2 " : "1 ") : "", k ? "to" : "from",
-                     fmod(round(k ? q->to : q->from), 360), k ? q->to_clock : q->from_clock);
+                     kt_lp_deg_mark(k ? q->to : q->from), k ? q->to_clock : q->from_clock);
             spot(lab, &LBL, RL, 5, e, t, &lx, &ly);
             kt_svg_line(f, ex, ey, lx, ly - 0.35 * LBL.fs, "leader");
             kt_svg_circle(f, ex, ey, 4, "end");

@@ -237,7 +237,7 @@ static void marking(FILE *f, const kt_patient *p, double blade, const kt_lp_arc 
           f);
     for (int i = 0; i < narc; i++) {
         const kt_lp_arc *q = &arcs[i];
-        double c = round(q->centre), fr = fmod(round(q->from), 360), to = fmod(round(q->to), 360);
+        double c = kt_lp_deg_mark(q->centre), fr = kt_lp_deg_mark(q->from), to = kt_lp_deg_mark(q->to);
         fprintf(f, "<li>Arc %d, <b>%.0f&deg;</b> long: its centre at <b>%.0f&deg;</b>; mark first <b>%.0f&deg;</b> (%s), "
                    "then <b>%.0f&deg;</b> (%s), clockwise.",
                 i + 1, q->arc, c, fr, q->from_clock, to, q->to_clock);
@@ -299,15 +299,15 @@ static void arcs_table(FILE *f, const kt_lp_answer *a, const kt_lp_arc *arcs, in
     for (int i = 0; i < narc; i++) {
         char k[64];
         fprintf(f, "<tr><td>%d</td><td class=\"n\">", i + 1);
-        snprintf(k, sizeof k, "plan.arcs.%d.centre_deg", i), num(f, k, "%.0f", arcs[i].centre);
+        snprintf(k, sizeof k, "plan.arcs.%d.centre_deg", i), num(f, k, "%.0f", kt_lp_deg_mark(arcs[i].centre));
         fputs("&deg;</td><td class=\"n\">", f);
         snprintf(k, sizeof k, "plan.arcs.%d.arc_deg", i), num(f, k, "%.0f", arcs[i].arc);
         fputs("&deg;</td><td class=\"n\">", f);
-        snprintf(k, sizeof k, "plan.arcs.%d.from_deg", i), num(f, k, "%.0f", arcs[i].from);
+        snprintf(k, sizeof k, "plan.arcs.%d.from_deg", i), num(f, k, "%.0f", kt_lp_deg_mark(arcs[i].from));
         fputs("&deg; (", f);
         snprintf(k, sizeof k, "plan.arcs.%d.from_clock", i), text_key(f, k, arcs[i].from_clock);
         fputs(")</td><td class=\"n\">", f);
-        snprintf(k, sizeof k, "plan.arcs.%d.to_deg", i), num(f, k, "%.0f", arcs[i].to);
+        snprintf(k, sizeof k, "plan.arcs.%d.to_deg", i), num(f, k, "%.0f", kt_lp_deg_mark(arcs[i].to));
         fputs("&deg; (", f);
         snprintf(k, sizeof k, "plan.arcs.%d.to_clock", i), text_key(f, k, arcs[i].to_clock);
         fputs(")</td><td class=\"n\">", f);
@@ -461,7 +461,7 @@ static void page(FILE *f, const kt_lp_answer *a, const kt_lriplan_opts *o, const
         fprintf(f, "<tr><td>main incision</td><td>%.1f mm %s at ", p->main_width,
                 p->main_kind == KT_MAIN_LIMBAL ? "limbal" : "clear corneal");
         num(f, "main_incision.meridian_deg", "%.1f", p->main_meridian);
-        fprintf(f, "&deg;; %s", p->main_simulate ? "simulate: not in this model yet, its SIA left out" : "the surgeon's SIA ");
+        fprintf(f, "&deg;; %s", p->main_simulate ? "simulated: its tunnel cut before the arcs, its SIA in the prediction (below)" : "the surgeon's SIA ");
         if (!p->main_simulate) {
             num(f, "main_incision.sia_added_D", "%.3f", a->choice.main_vec.mag);
             fputs(" D @ ", f);

@@ -409,7 +409,8 @@ void kt_lri_summary(const kt_lp_answer *a, const kt_lriplan_opts *o, const kt_lr
     else fprintf(s, "  answer: %s at the %.1f mm zone, blade %.0f um deep:\n", a->fam.f[c].name, p->zone, 1000 * a->eye.blade);
     for (int i = 0; i < narc; i++)
         fprintf(s, "    arc %d: %.0f deg centred on %.0f, from %.0f to %.0f deg clockwise (%s to %s o'clock), chord %.2f mm\n", i + 1,
-                arcs[i].arc, arcs[i].centre, arcs[i].from, arcs[i].to, arcs[i].from_clock, arcs[i].to_clock, arcs[i].chord);
+                arcs[i].arc, kt_lp_deg_mark(arcs[i].centre), kt_lp_deg_mark(arcs[i].from), kt_lp_deg_mark(arcs[i].to),
+                arcs[i].from_clock, arcs[i].to_clock, arcs[i].chord);
     kt_astig kp, tp;
     kt_lp_post(a, &kp, &tp);
     fprintf(s, "  post-op: keratometric %.2f D @ %.0f, total corneal %.2f D @ %.0f\n", kp.mag, AX0(kp.axis), tp.mag, AX0(tp.axis));

@@ -5,16 +5,18 @@
  * Seen from the front (the eye's axis +z towards the observer, angles TABO as eye.h), a wound's
  * footprint is the rectangle it opens in the cornea: along its meridian m from r_in to r_out
  * (mm from the eye axis: the internal opening and the external entry of a tunnel), across it
- * |w| <= width / 2. An arc is the part of the zone circle (radius R, mm) from centre - arc / 2
- * to centre + arc / 2 (deg).
+ * |w| <= width / 2. An arc is the part of the zone from centre - arc / 2 to centre + arc / 2
+ * (deg); the zone is an ellipse of semi-axes rx (along 0 deg) and ry (along 90 deg), mm: the ring
+ * of an oval cornea (keratome-scene(5), THE OVAL CORNEA), a circle when rx == ry. Its point at
+ * meridian th lies at the ellipse's radius in that meridian, where the oval warp moves it.
  *
  * Outputs:
  *   kt_clearance       the arc's clearance from the wound, degrees at the zone: when the arc
  *                      and the footprint are apart, the least distance between them (mm) over
- *                      R, in degrees (along the zone circle where the circle meets the
- *                      footprint, that is the angular gap); when the arc runs through the
- *                      footprint, minus the degrees of arc inside it (negative: they cross).
- *                      NaN for a radius <= 0, a negative arc or a NaN input.
+ *                      the zone's radius at that point, in degrees (on a circle where it
+ *                      meets the footprint, that is the angular gap); when the arc runs through
+ *                      the footprint, minus the degrees of arc inside it (negative: they cross).
+ *                      NaN for a semi-axis <= 0, a negative or infinite arc or a NaN input.
  *   kt_clear_arc       the longest arc (deg, at most max) centred at `centre` whose clearance
  *                      from every wound is at least `min` degrees; 0 when the centre itself
  *                      lies within `min` of a wound; *which: the limiting wound (-1: none).
@@ -43,12 +45,17 @@ typedef struct kt_footprint {
     const char *name;           /* "the main incision", "the side port": for the reason text */
 } kt_footprint;
 
+/* The zone the arcs lie on: an ellipse of semi-axes rx along 0 deg and ry along 90 deg, mm. */
+typedef struct kt_zone {
+    double rx, ry;
+} kt_zone;
+
 /* The footprint of a tunnel whose plane kt_tunnel_derive derived (entry, exit set). */
 void kt_footprint_of_tunnel(const kt_tunnel *t, const char *name, kt_footprint *w);
 
-double kt_clearance(const kt_footprint *w, double centre, double arc, double radius);
+double kt_clearance(const kt_footprint *w, double centre, double arc, kt_zone z);
 
-double kt_clear_arc(const kt_footprint *w, int nw, double centre, double max, double radius, double min, int *which);
+double kt_clear_arc(const kt_footprint *w, int nw, double centre, double max, kt_zone z, double min, int *which);
 
 typedef struct kt_clear_result {
     double arc;                 /* deg: the longest arc at `centre` (0: the family is left out) */
@@ -60,7 +67,7 @@ typedef struct kt_clear_result {
 } kt_clear_result;
 
 /* ratio: the opposite arc over this one (1 an equal pair); paired 0: a single arc. */
-void kt_clear_family(const kt_footprint *w, int nw, double centre, int paired, double ratio, double max, double radius,
+void kt_clear_family(const kt_footprint *w, int nw, double centre, int paired, double ratio, double max, kt_zone z,
                      double min, kt_clear_result *r);
 
 #endif

@@ -291,6 +291,10 @@ static int init_oval(const kt_eye *eye, kt_eye_geom *g, kt_err *e)
     g->ov_r0 = 0.5 * eye->optical_zone;
     g->ov_xb = g->rc - 0.5 * eye->limbus_width;
     g->ov_r1 = fmin(g->ov_r0 + KT_EYE_OVAL_RAMP * d, g->ov_xb);
+    if (!(g->ov_r0 > d)) /* the rings' ellipses (xi, xi - d) need xi > d from the optical zone out */
+        return kt_fail(e, KT_EINPUT, "eye.optical_zone: expected more than %g mm with an oval cornea (twice the "
+                       "horizontal white_to_white %g mm less the vertical %g mm), got %g mm",
+                       2 * d, eye->wtw, v, eye->optical_zone);
     if (!(d <= (1 - KT_EYE_OVAL_KEEP) * (g->ov_r1 - g->ov_r0)))
         return kt_fail(e, KT_EINPUT, "eye.white_to_white.vertical: expected at least %g mm (the horizontal %g mm less "
                        "what the cornea between the optical zone and the outermost ring can take), got %g mm",

@@ -2,6 +2,7 @@
  * answer. */
 #include "lp.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "aug_plan.h"
@@ -42,6 +43,9 @@ int kt_lp_plan(const kt_lp_opts *o, kt_lp_answer *a, kt_err *e)
                        "constraints.clearance", a->eye.p.path, a->eye.p.clearance, a->trim.t[why].why);
     if (kt_lp_mesh_make(&a->scene.s, o->quiet, &a->mesh, e) || kt_lp_runs_make(o, a, e)) return e->code;
     kt_lp_choose(&a->eye, &a->fam, &a->run, &a->choice);
+    if (a->choice.chosen < 0)
+        return kt_fail(e, KT_ERUN, "%s: no family's predicted residual is a number (NaN in the solved readings): "
+                       "numerical trouble in the solves, no plan written", a->eye.p.path);
     kt_lp_bands_make(o, a, &a->band);
     return KT_OK;
 }
@@ -49,4 +53,10 @@ int kt_lp_plan(const kt_lp_opts *o, kt_lp_answer *a, kt_err *e)
 void kt_lp_answer_free(kt_lp_answer *a)
 {
     kt_lp_mesh_free(&a->mesh);
+}
+
+double kt_lp_deg_mark(double deg)
+{
+    double d = fmod(round(deg), 360);
+    return d < 0 ? d + 360 : d;
 }

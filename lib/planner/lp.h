@@ -223,4 +223,8 @@ typedef struct kt_lp_answer {
 int kt_lp_plan(const kt_lp_opts *o, kt_lp_answer *a, kt_err *e);
 void kt_lp_answer_free(kt_lp_answer *a);
 
+/* A meridian as the surgeon marks it on a degree gauge: whole degrees (halves away from zero),
+ * in [0, 360). Every page and message prints an arc's centre and end points through it. */
+double kt_lp_deg_mark(double deg);
+
 #endif

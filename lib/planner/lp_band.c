@@ -113,11 +113,14 @@ double kt_lp_band_cdf(const double mean[2], const kt_lp_cov *cov, double r)
     return cdf_frame(f, r);
 }
 
-/* The radius where F reaches p (bisection). */
+/* The radius where F reaches p (bisection); NaN when no bracket is found. */
 static double quantile(const frame *f, double p)
 {
     double lo = 0, hi = hypot(f->mx, f->my) + 12 * f->sy + 1e-12;
-    while (cdf_frame(*f, hi) < p) hi *= 2;
+    for (int up = 0; !(cdf_frame(*f, hi) >= p); up++) {
+        if (up == 64) return NAN;
+        hi *= 2;
+    }
     for (int it = 0; it < 100 && hi - lo > 1e-12 * (1 + hi); it++) {
         double m = 0.5 * (lo + hi);
         if (cdf_frame(*f, m) < p) lo = m;
@@ -128,19 +131,73 @@ static double quantile(const frame *f, double p)
 
 static double survival(const void *ctx, double r) { return 1 - cdf_frame(*(const frame *)ctx, r); }
 
+/* Gauss-Hermite rule of GH_N points for the weight exp(-x^2): nodes x[] and weights w[] (Newton
+ * on the orthonormal Hermite recurrence from the asymptotic first guesses; symmetric pairs). */
+#define GH_N 32
+static void gauss_hermite(double x[GH_N], double w[GH_N])
+{
+    const int n = GH_N;
+    double z = 0, pp = 0;
+    for (int i = 0; i < (n + 1) / 2; i++) {
+        if (i == 0) z = sqrt(2.0 * n + 1) - 1.85575 * pow(2.0 * n + 1, -1.0 / 6);
+        else if (i == 1) z -= 1.14 * pow(n, 0.426) / z;
+        else if (i == 2) z = 1.86 * z - 0.86 * x[0];
+        else if (i == 3) z = 1.91 * z - 0.91 * x[1];
+        else z = 2 * z - x[i - 2];
+        for (int it = 0; it < 100; it++) {
+            double p1 = 0.7511255444649425 /* pi^(-1/4) */, p2 = 0;
+            for (int j = 1; j <= n; j++) {
+                double p3 = p2;
+                p2 = p1;
+                p1 = z * sqrt(2.0 / j) * p2 - sqrt((j - 1.0) / j) * p3;
+            }
+            pp = sqrt(2.0 * n) * p2;
+            double dz = p1 / pp;
+            z -= dz;
+            if (fabs(dz) <= 1e-15 * fabs(z)) break;
+        }
+        x[i] = z, x[n - 1 - i] = -z;
+        w[i] = w[n - 1 - i] = 2 / (pp * pp);
+    }
+}
+
+/* E|v| for v ~ N(mean, cov) in frame f by a GH_N x GH_N Gauss-Hermite product rule: exact to
+ * rounding when |v| is smooth over the distribution's mass, i.e. the origin is many sds away
+ * (|mean| > 6 sy: the cone at |v| = 0 then weighs below e^-18). */
+static double mean_far(const frame *f)
+{
+    double x[GH_N], w[GH_N], sum = 0;
+    gauss_hermite(x, w);
+    for (int i = 0; i < GH_N; i++)
+        for (int j = 0; j < GH_N; j++)
+            sum += w[i] * w[j] * hypot(f->mx + SQRT2 * f->sx * x[i], f->my + SQRT2 * f->sy * x[j]);
+    return sum / M_PI;
+}
+
 void kt_lp_band_of(const double mean[2], const kt_lp_cov *cov, kt_lp_band *b)
 {
     frame f;
     principal(mean, cov, &f);
     b->mean[0] = mean[0], b->mean[1] = mean[1], b->cov = *cov;
     b->mag = hypot(mean[0], mean[1]);
+    if (!isfinite(b->mag)) { /* no prediction (NaN readings): no band */
+        b->sd = b->lo = b->hi = NAN;
+        return;
+    }
     if (!(f.sy > POINT)) { /* no spread (or a NaN one: no band) */
         b->sd = isnan(f.sy) ? NAN : 0;
         b->lo = b->hi = isnan(b->sd) ? NAN : b->mag;
         return;
     }
     b->lo = quantile(&f, KT_LP_BAND_LO), b->hi = quantile(&f, KT_LP_BAND_HI);
-    double top = b->mag + 14 * f.sy, m1 = integrate(survival, &f, 0, top);
+    /* E|v|^2 is exact; E|v| by Gauss-Hermite where |v| is smooth, else as the integral of the
+     * survival 1 - F over the range where it falls from 1 to 0 (|v| >= |x|, |v| >= |y|). */
+    double m1;
+    if (b->mag > 6 * f.sy) m1 = mean_far(&f);
+    else {
+        double a = fmax(0, fmax(fabs(f.mx) - 12 * f.sx, fabs(f.my) - 12 * f.sy));
+        m1 = a + integrate(survival, &f, a, hypot(fabs(f.mx) + 12 * f.sx, fabs(f.my) + 12 * f.sy));
+    }
     double m2 = b->mag * b->mag + f.sx * f.sx + f.sy * f.sy;
     b->sd = sqrt(fmax(0, m2 - m1 * m1));
 }

@@ -27,9 +27,12 @@ int kt_lp_choose_best(int n, const int *ran, const int *nstep, const kt_astig pr
     for (int i = 0; i < n; i++) {
         best[i] = 0;
         if (!ran[i]) continue;
-        for (int k = 0; k <= nstep[i]; k++)
-            if (pred[i][k].mag < pred[i][best[i]].mag - 1e-9) best[i] = k;
+        for (int k = 0; k <= nstep[i]; k++) { /* a NaN prediction is never the best */
+            double m = pred[i][k].mag, mb = pred[i][best[i]].mag;
+            if (isfinite(m) && (!isfinite(mb) || m < mb - 1e-9)) best[i] = k;
+        }
         double r = pred[i][best[i]].mag;
+        if (!isfinite(r)) continue; /* no finite prediction: the family does not compete */
         if (chosen < 0 || r < low - KT_LP_TIE) low = r, chosen = i; /* within the tie: the fewer incisions */
     }
     return chosen;

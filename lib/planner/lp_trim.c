@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "eye.h"
 #include "lp_family.h"
 #include "lp_scene.h"
 
@@ -35,7 +36,8 @@ int kt_lp_wounds_of(const kt_lp_eye *eye, const kt_lp_scene *sc, kt_lp_wounds *w
 {
     const kt_patient *p = &eye->p;
     memset(w, 0, sizeof *w);
-    w->radius = p->zone / 2, w->min = p->clearance;
+    w->zone.rx = kt_eye_oval_radius(&sc->s.eye, p->zone, 0), w->zone.ry = kt_eye_oval_radius(&sc->s.eye, p->zone, 90);
+    w->min = p->clearance;
     if (p->main_present) { /* simulated or not, its tunnel is where the surgeon cuts it */
         kt_tunnel t = sc->main;
         if (!sc->main_sim) {
@@ -63,9 +65,10 @@ int kt_lp_wounds_of(const kt_lp_eye *eye, const kt_lp_scene *sc, kt_lp_wounds *w
 static int arc_clash(const kt_lp_wounds *w, double centre, double arc, char *why, size_t n)
 {
     for (int k = 0; k < w->nw; k++) {
-        if (kt_clearance(&w->w[k], centre, arc, w->radius) >= w->min) continue;
-        snprintf(why, n, "the arc at %.0f deg would come within %g deg of %s at %.0f deg (%.1f mm zone)", fmod(centre, 360),
-                 w->min, w->w[k].name ? w->w[k].name : "a wound", w->w[k].meridian, 2 * w->radius);
+        if (kt_clearance(&w->w[k], centre, arc, w->zone) >= w->min) continue;
+        snprintf(why, n, "the arc at %.0f deg would come within %g deg of %s at %.0f deg (%.1f mm zone)",
+                 kt_lp_deg_mark(centre), w->min, w->w[k].name ? w->w[k].name : "a wound", kt_lp_deg_mark(w->w[k].meridian),
+                 2 * w->zone.rx);
         return 1;
     }
     return 0;

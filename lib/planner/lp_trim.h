@@ -33,12 +33,12 @@ kt_lp_family kt_lp_family_cut(const kt_lp_answer *a, int i);
 
 /* The model's clearance (kt_lp_clear) on `nw` wounds: plan p's arcs (each incision's, and the
  * opposite one of a pair at its own extent) clash when kt_clearance of one from a wound is not
- * at least min deg at the zone of the given radius (mm); why: "the arc at C deg would come within
- * MIN deg of <wound> at M deg (Z mm zone)". */
+ * at least min deg at the zone (its ellipse on an oval cornea); why: "the arc at C deg would come
+ * within MIN deg of <wound> at M deg (Z mm zone)". */
 typedef struct kt_lp_wounds {
     int nw;
     kt_footprint w[2];          /* the main incision, the side port */
-    double radius;              /* the zone's, mm */
+    kt_zone zone;               /* the arcs' ring: its semi-axes at 0 and 90 deg after the oval warp, mm */
     double min;                 /* deg at the zone */
 } kt_lp_wounds;
 int kt_lp_wounds_of(const kt_lp_eye *eye, const kt_lp_scene *sc, kt_lp_wounds *w, kt_err *e);

@@ -109,6 +109,14 @@ static void check_closed_forms(void)
     bad.wtw_v = vmin + 0.01;
     e = (kt_err){0};
     CHECK(kt_eye_geom_init(&bad, &g, &e) == KT_OK, "just above the least: %s", e.msg);
+    /* an optical zone inside the rings' ellipses' reach (xi <= d: a negative semi-axis) */
+    bad = eye;
+    bad.optical_zone = 1.0; /* d = 0.55 mm */
+    e = (kt_err){0};
+    CHECK(kt_eye_geom_init(&bad, &g, &e) == KT_EINPUT && strstr(e.msg, "eye.optical_zone"), "%s", e.msg);
+    bad.optical_zone = 3.0, bad.wtw_v = 8.0; /* d = 1.85 mm, a vertical the least allows */
+    e = (kt_err){0};
+    CHECK(kt_eye_geom_init(&bad, &g, &e) == KT_EINPUT && strstr(e.msg, "eye.optical_zone"), "%s", e.msg);
     /* a ring past the clear cornea (white_to_white - limbus_width) on an oval cornea */
     bad = eye;
     bad.ring[0].diameter = 10.9;

@@ -8,7 +8,10 @@
  * - the non-tissue term cv^2 s s^T: a spread of cv |s| along the SIA s and none across it; on a
  *   residual of zero it alone gives |v| the folded normal of sd cv |s|;
  * - the band never collapses: whenever the prediction is below the SIA's sd (its projection on
- *   itself, as curvature reports it), the 95% end is at least that sd. */
+ *   itself, as curvature reports it), the 95% end is at least that sd;
+ * - the magnitude's sd stays right when the spread is small against the mean (against a brute
+ *   2-D sum), along and across the major axis;
+ * - a NaN prediction has no band (NaN, and the quantile search ends). */
 #include <math.h>
 #include <string.h>
 
@@ -165,6 +168,52 @@ static void no_collapse(void)
     CHECK(b.hi > 0.2 && b.sd > 0.05, "a zero prediction keeps its band: %.3f-%.3f D, sd %.3f D", b.lo, b.hi, b.sd);
 }
 
+/* E|v| and sd|v| for a diagonal cov by a midpoint sum over +-9 sd in each direction. */
+static void brute_moments(const double m[2], double sx, double sy, double *mean, double *sd)
+{
+    int n = 1200;
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (int i = 0; i < n; i++) {
+        double zx = -9 + 18 * (i + 0.5) / n, px = exp(-0.5 * zx * zx);
+        for (int j = 0; j < n; j++) {
+            double zy = -9 + 18 * (j + 0.5) / n, w = px * exp(-0.5 * zy * zy);
+            double r = hypot(m[0] + sx * zx, m[1] + sy * zy);
+            s0 += w, s1 += w * r, s2 += w * r * r;
+        }
+    }
+    *mean = s1 / s0;
+    *sd = sqrt(fmax(0, s2 / s0 - *mean * *mean));
+}
+
+static void small_spread(void)
+{
+    struct { double m[2], sx, sy; const char *what; } c[] = {
+        {{3, 0}, 0.005, 0.005, "isotropic, sd/|mean| 1/600"},
+        {{2, 0}, 0.005, 0.005, "isotropic, sd/|mean| 1/400"},
+        {{1, 0}, 0.002, 0.002, "isotropic, sd/|mean| 1/500"},
+        {{1, 0}, 1e-4, 0.1, "the mean across the major axis"},
+        {{0, 1.5}, 0.01, 0.2, "the mean along the major axis"},
+        {{0.3, 0}, 0.2, 0.2, "near the origin (the integral)"},
+    };
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        kt_lp_cov cov = {c[i].sx * c[i].sx, 0, c[i].sy * c[i].sy};
+        kt_lp_band b;
+        kt_lp_band_of(c[i].m, &cov, &b);
+        double mean, sd;
+        brute_moments(c[i].m, c[i].sx, c[i].sy, &mean, &sd);
+        CHECK(fabs(b.sd - sd) <= 0.01 * sd, "%s: the magnitude's sd %.6g against %.6g (brute sum)", c[i].what, b.sd, sd);
+    }
+}
+
+static void nan_mean(void)
+{
+    double m[2] = {NAN, NAN};
+    kt_lp_cov cov = {0.45, 0.10, 0.023};
+    kt_lp_band b;
+    kt_lp_band_of(m, &cov, &b);
+    CHECK(isnan(b.lo) && isnan(b.hi) && isnan(b.sd), "a NaN prediction: no band (lo %g, hi %g, sd %g)", b.lo, b.hi, b.sd);
+}
+
 int main(void)
 {
     rayleigh();
@@ -174,5 +223,7 @@ int main(void)
     covariance();
     nontissue();
     no_collapse();
+    small_spread();
+    nan_mean();
     return kt_test_done("test_band");
 }

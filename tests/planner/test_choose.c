@@ -43,6 +43,18 @@ static void decision(void)
     for (int k = 0; k <= 18; k++) pred[0][k].mag = k < 4 ? 1 - 0.2 * k : 0.4 - 1e-12 * k;
     kt_lp_choose_best(1, ran, nstep, (const kt_astig(*)[KT_LP_MAXSTEP + 1])pred, best);
     CHECK(best[0] == 3, "the first of equal residuals (%d)", best[0]);
+    /* NaN readings: never the best step, never the chosen family; none finite: none */
+    ran[0] = ran[1] = 1, ran[2] = 0;
+    curve(pred[0], 18, 0.30, 12), curve(pred[1], 18, 0.2, 8);
+    pred[0][0].mag = NAN, pred[1][8].mag = NAN;
+    c = kt_lp_choose_best(2, ran, nstep, (const kt_astig(*)[KT_LP_MAXSTEP + 1])pred, best);
+    CHECK(best[0] == 12 && best[1] == 7, "a NaN at step 0 or at the minimum is passed over (%d %d)", best[0], best[1]);
+    CHECK(c == 1, "and the family with the least finite residual chosen (%d)", c);
+    for (int k = 0; k <= 18; k++) pred[1][k].mag = NAN;
+    c = kt_lp_choose_best(2, ran, nstep, (const kt_astig(*)[KT_LP_MAXSTEP + 1])pred, best);
+    CHECK(c == 0, "a family with no finite residual does not compete (%d)", c);
+    for (int k = 0; k <= 18; k++) pred[0][k].mag = NAN;
+    CHECK(kt_lp_choose_best(2, ran, nstep, (const kt_astig(*)[KT_LP_MAXSTEP + 1])pred, best) == -1, "no finite residual: none");
 }
 
 /* The whole stage on synthetic runs: a surgeon's vector, both target kinds, the main incision. */

@@ -160,7 +160,7 @@ static void model(void)
             return;
         }
         kt_clear_result r;
-        kt_clear_family(w.w, w.nw, fam.f[1].meridian, 1, 1, 90, w.radius, w.min, &r);
+        kt_clear_family(w.w, w.nw, fam.f[1].meridian, 1, 1, 90, w.zone, w.min, &r);
         int want = (int)floor(r.arc / 5 + 1e-9);
         CHECK(tr.t[1].nstep == want, "main at %g deg: the pair keeps %d steps, the model's longest clear arc %.2f deg", merid[i],
               tr.t[1].nstep, r.arc);
