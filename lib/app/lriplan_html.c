@@ -339,8 +339,9 @@ static void verdict(FILE *f, const kt_lp_answer *a, const kt_lp_arc *arcs, int n
         fprintf(f, "A pair of unequal arcs, %.0f&deg; and %.0f&deg;, at the %.1f mm zone, %.0f um deep.", arcs[0].arc, arcs[1].arc,
                 p->zone, 1000 * a->eye.blade);
     else fprintf(f, "A pair of arcs of %.0f&deg; each at the %.1f mm zone, %.0f um deep.", arcs[0].arc, p->zone, 1000 * a->eye.blade);
-    fprintf(f, " Predicted <b>%s</b> residual %.2f D: %s the %.2f D target.</p>\n", tkind, cres->mag,
-            ok ? "reaches" : "does NOT reach", p->target_residual);
+    int dg = kt_lp_res_digits(cres->mag, p->target_residual);
+    fprintf(f, " Predicted <b>%s</b> residual %.*f D: %s the %.*f D target.</p>\n", tkind, dg, cres->mag,
+            ok ? "reaches" : "does NOT reach", dg, p->target_residual);
     fputs("<div class=\"cards\">", f);
     fputs("<div class=\"card\"><span class=\"l\">incisions</span><b>", f);
     text_key(f, "plan.incisions", fc->name);

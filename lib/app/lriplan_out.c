@@ -415,8 +415,9 @@ void kt_lri_summary(const kt_lp_answer *a, const kt_lriplan_opts *o, const kt_lr
     kt_lp_post(a, &kp, &tp);
     fprintf(s, "  post-op: keratometric %.2f D @ %.0f, total corneal %.2f D @ %.0f\n", kp.mag, AX0(kp.axis), tp.mag, AX0(tp.axis));
     const kt_astig *r = &a->choice.pred[c][k];
-    fprintf(s, "  predicted %s residual %.2f D @ %.0f: %s the %.2f D target\n", target_name(p), r->mag, AX0(r->axis),
-            r->mag <= p->target_residual ? "reaches" : "does NOT reach", p->target_residual);
+    int dg = kt_lp_res_digits(r->mag, p->target_residual);
+    fprintf(s, "  predicted %s residual %.*f D @ %.0f: %s the %.*f D target\n", target_name(p), dg, r->mag, AX0(r->axis),
+            r->mag <= p->target_residual ? "reaches" : "does NOT reach", dg, p->target_residual);
     summary_band(a, s);
     fprintf(s, "  written: %s/plan.html, plan.json%s%s, scene.yaml, eye.msh (mesh %.0f s, solves %.0f s%s)\n", o->outdir,
             fl->report ? ", " : "", fl->report ? fl->report : "", a->mesh.seconds, a->run.solve_seconds,

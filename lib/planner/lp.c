@@ -60,3 +60,13 @@ double kt_lp_deg_mark(double deg)
     double d = fmod(round(deg), 360);
     return d < 0 ? d + 360 : d;
 }
+
+int kt_lp_res_digits(double r, double t)
+{
+    int d = 2;
+    for (; d < 4 && r > t; d++) {
+        double s = pow(10, d);
+        if (round(r * s) > round(t * s)) break;
+    }
+    return d;
+}

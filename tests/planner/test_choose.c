@@ -5,6 +5,7 @@
  * vector and reads the target's kind; the simulated main incision's SIA is the step after its
  * tunnel against the intact eye; the chosen arcs as the surgeon marks them. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "kt_test.h"
@@ -120,10 +121,26 @@ static void marks(void)
     CHECK(kt_lp_arcs(&a, arcs) == 0, "no arc at step 0");
 }
 
+/* A residual that misses the target never prints as equal to it. */
+static void digits(void)
+{
+    char r[32], t[32];
+    const double cases[][3] = {{0.503, 0.5, 3}, {0.5004, 0.5, 4}, {0.5, 0.5, 2}, {0.49, 0.5, 2}, {0.4996, 0.5, 2},
+                               {0.62, 0.5, 2}, {0.25001, 0.25, 4}};
+    for (int i = 0; i < (int)(sizeof cases / sizeof cases[0]); i++) {
+        int d = kt_lp_res_digits(cases[i][0], cases[i][1]);
+        CHECK(d == (int)cases[i][2], "%g against %g: %d decimals, expected %g", cases[i][0], cases[i][1], d, cases[i][2]);
+        snprintf(r, sizeof r, "%.*f", d, cases[i][0]), snprintf(t, sizeof t, "%.*f", d, cases[i][1]);
+        if (cases[i][0] > cases[i][1] && d < 4)
+            CHECK(strcmp(r, t) != 0, "a miss printed as the target: %s against %s", r, t);
+    }
+}
+
 int main(void)
 {
     decision();
     stage();
     marks();
+    digits();
     return kt_test_done("test_choose");
 }
