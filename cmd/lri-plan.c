@@ -24,6 +24,9 @@ static const char usage[] =
     "                      up to a quarter less)\n"
     "      --plan-max-ratio R  the planned method's factor limit (augsolve(1)); beyond it a\n"
     "                      family falls back to refactor, said on stderr and in plan.json\n"
+    "  -j, --jobs N        families solved at once, each on a core (default: 2 when the load\n"
+    "                      leaves two cores free and the memory holds two runs; the answer\n"
+    "                      is the same to the bit)\n"
     "  -q, --quiet         no progress on stderr\n"
     "  -h, --help          this help\n"
     "      --version       the version\n"
@@ -32,17 +35,19 @@ static const char usage[] =
 static int tool_main(int argc, char **argv)
 {
     enum { O_BASE = 256, O_FAST, O_STEP, O_VERSION, O_NOBAND, O_MAXRATIO, O_STATE, O_VIEW };
+    double jobs;
     static const struct option lo[] = {{"output", required_argument, 0, 'o'}, {"base", required_argument, 0, O_BASE},
                                        {"fast", no_argument, 0, O_FAST},      {"step", required_argument, 0, O_STEP},
                                        {"quiet", no_argument, 0, 'q'},        {"help", no_argument, 0, 'h'},
                                        {"version", no_argument, 0, O_VERSION}, {"no-uncertainty", no_argument, 0, O_NOBAND},
                                        {"plan-max-ratio", required_argument, 0, O_MAXRATIO},
                                        {"state", required_argument, 0, O_STATE},
-                                       {"view", required_argument, 0, O_VIEW}, {0, 0, 0, 0}};
+                                       {"view", required_argument, 0, O_VIEW}, {"jobs", required_argument, 0, 'j'},
+                                       {0, 0, 0, 0}};
     kt_lriplan_opts o;
     kt_lriplan_opts_default(&o);
     int c;
-    while ((c = getopt_long(argc, argv, "o:qh", lo, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "o:j:qh", lo, NULL)) != -1) {
         switch (c) {
         case 'o': o.outdir = optarg; break;
         case O_BASE: o.base = optarg; break;
@@ -74,6 +79,13 @@ static int tool_main(int argc, char **argv)
                 fprintf(stderr, "lri-plan: --view %s: expected temporal, superior or examiner\n", optarg);
                 return KT_EINPUT;
             }
+            break;
+        case 'j':
+            if (kt_parse_number(optarg, &jobs) || !(jobs >= 1 && jobs <= 3) || jobs != (int)jobs) {
+                fprintf(stderr, "lri-plan: --jobs %s: expected a whole number from 1 to 3 (the families)\n", optarg);
+                return KT_EINPUT;
+            }
+            o.jobs = (int)jobs;
             break;
         case 'q': o.quiet = 1; break;
         case 'h': fputs(usage, stdout); return kt_stdout_done("lri-plan");

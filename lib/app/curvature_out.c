@@ -252,8 +252,9 @@ void kt_curvrun_summary_json(const run_ctx *c, FILE *f)
 }
 
 /* steps.pvd: the step VTKs as one ParaView time series (time: degrees of arc opened per
- * incision when the plan cuts arcs, else the step number). File names are relative when the
- * collection sits beside them, absolute otherwise. */
+ * incision when the plan cuts arcs, else the step number). File names are relative to the
+ * collection's folder (bare when it sits beside them), so that the run and its maps move
+ * together (lri-plan writes them in a folder it then renames). */
 int kt_curvrun_write_pvd(run_ctx *c, kt_err *e)
 {
     char path[PATHMAX], a[PATHMAX], b[PATHMAX];
@@ -275,8 +276,9 @@ int kt_curvrun_write_pvd(run_ctx *c, kt_err *e)
             kt_out_abort(&out);
             return kt_fail(e, KT_ERUN, "%s: cannot resolve the path", c->vtk[i]);
         }
+        if (!beside) kt_path_relative(a, c->outdir, b, sizeof b); /* the run and its maps move together */
         fprintf(f, "    <DataSet timestep=\"%g\" part=\"0\" file=\"", by_arc ? kt_curvrun_arc(c, i) : c->num[i]);
-        for (const char *q = beside ? name : a; *q; q++) {
+        for (const char *q = beside ? name : b; *q; q++) {
             if (*q == '&') fputs("&amp;", f);
             else if (*q == '"') fputs("&quot;", f);
             else if (*q == '<') fputs("&lt;", f);
@@ -383,6 +385,15 @@ static int prov_rows(const run_ctx *c, char (*rows)[ROWLEN], const char **ptr)
     return n / 2;
 }
 
+/* path as report.html names it: RUN_DIR's prefix said as o->shown_dir (when set). */
+static const char *shown(const kt_curv_opts *o, const char *path, char *buf, size_t n)
+{
+    size_t l = o->run_dir ? strlen(o->run_dir) : 0;
+    if (!path || !o->shown_dir || !l || strncmp(path, o->run_dir, l) != 0) return path;
+    snprintf(buf, n, "%s%s", o->shown_dir, path + l);
+    return buf;
+}
+
 int kt_curvrun_write_report(run_ctx *c, kt_err *e)
 {
     kt_report_step *st = kt_calloc(c->nstep, sizeof(kt_report_step), e);
@@ -403,8 +414,11 @@ int kt_curvrun_write_report(run_ctx *c, kt_err *e)
     else snprintf(fitname, sizeof fitname, "biconic (toric)");
     kt_report r;
     memset(&r, 0, sizeof r);
-    r.version = KT_VERSION, r.run_dir = c->o->run_dir ? c->o->run_dir : ".", r.mesh = c->mesh;
-    r.plan_path = c->plan_in ? c->plan_in->path : NULL, r.run_yaml = run_yaml, r.plan = c->plan_in;
+    char sd[PATHMAX], sm[PATHMAX], sp[PATHMAX], ss[PATHMAX];
+    r.version = KT_VERSION, r.run_dir = c->o->run_dir ? shown(c->o, c->o->run_dir, sd, sizeof sd) : ".";
+    r.mesh = shown(c->o, c->mesh, sm, sizeof sm);
+    r.plan_path = c->plan_in ? shown(c->o, c->plan_in->path, sp, sizeof sp) : NULL, r.run_yaml = run_yaml, r.plan = c->plan_in;
+    r.scene_path = c->plan_in ? shown(c->o, c->plan_in->scene_path, ss, sizeof ss) : NULL;
     r.mesh_nn = c->mesh_nn, r.mesh_ne = c->mesh_ne, r.mesh_order = c->mesh_order;
     r.nstep = c->nstep, r.step = st, r.meridian = c->meridian, r.has_target = c->has_target, r.tia = c->tia;
     r.map_pre = &c->res[0].map, r.map_post = &c->res[c->nstep - 1].map;

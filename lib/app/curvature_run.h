@@ -8,6 +8,8 @@
 
 typedef struct kt_curv_opts {
     const char *run_dir;     /* RUN_DIR, or NULL with mesh + vtk[] */
+    const char *shown_dir;   /* RUN_DIR as report.html names it, and the paths in it (NULL:
+                                as given; lri-plan: the plan folder it is renamed into) */
     const char *mesh;        /* --mesh: the input mesh (MSH) */
     const char *plan;        /* --plan: overrides run.yaml's plan */
     const char *const *vtk;  /* step files, step 0 first (with mesh) */

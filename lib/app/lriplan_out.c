@@ -263,6 +263,7 @@ static void json_provenance(kt_json *j, const kt_lp_answer *a, const kt_lriplan_
     kt_json_str(j, "scene", "scene.yaml"), kt_json_str(j, "mesh", "eye.msh"), kt_json_str(j, "mesh_hash", hash);
     kt_json_int(j, "mesh_nodes", a->mesh.m.nn), kt_json_bool(j, "fast", o->fast), kt_json_num(j, "step_deg", o->step, -6);
     kt_json_num(j, "mesh_seconds", a->mesh.seconds, 1), kt_json_num(j, "solve_seconds", a->run.solve_seconds, 1);
+    kt_json_int(j, "jobs", a->run.jobs);
     kt_json_obj(j, "cpu_seconds");
     kt_json_num(j, "mesh", a->mesh.cpu, 1), kt_json_num(j, "physics", a->run.cpu_physics, 1);
     double cut = 0, solve = 0, read = 0, out = 0;

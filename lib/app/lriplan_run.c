@@ -92,7 +92,10 @@ static int chosen_report(const kt_lp_answer *a, const kt_lriplan_opts *o, kt_lri
     kt_report_main m;
     report_main(a, &m);
     kt_curv_opts_default(&cv);
+    char shown[PATHLEN];
+    if (o->shown_outdir && join(shown, o->shown_outdir, "run", e)) return e->code;
     cv.run_dir = run, cv.outdir = dir, cv.vtk_out = 0, cv.quiet = 1;
+    cv.shown_dir = o->shown_outdir ? shown : NULL;
     cv.step_sel = a->choice.best[c] + a->run.r[c].skip;
     cv.eye_os = a->eye.p.eye == KT_EYE_OS;
     cv.main = &m;
@@ -153,7 +156,7 @@ static int run_plan(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
     kt_lp_opts_default(&lo);
     lo.patient = o->patient, lo.base = o->base, lo.step = o->step, lo.fast = o->fast;
     lo.no_band = o->no_band, lo.quiet = o->quiet, lo.band_extra = o->band_extra, lo.state = o->state;
-    lo.plan_max_ratio = o->plan_max_ratio;
+    lo.plan_max_ratio = o->plan_max_ratio, lo.jobs = o->jobs;
     st->outdir = o->outdir, st->a = a;
     lo.sink = kt_lri_stage_sink, lo.sink_ctx = st;
     int rc = kt_lp_plan(&lo, a, e);
@@ -203,7 +206,7 @@ int kt_lriplan_run(const kt_lriplan_opts *o, FILE *summary, kt_err *e)
     kt_outdir d;
     if (kt_outdir_begin(&d, o->outdir, e)) return e->code;
     kt_lriplan_opts w = *o;
-    w.outdir = d.tmp;
+    w.outdir = d.tmp, w.shown_outdir = d.path;
     char *text = NULL;
     size_t len = 0;
     FILE *mem = summary ? open_memstream(&text, &len) : NULL;

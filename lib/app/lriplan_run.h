@@ -11,6 +11,8 @@
 typedef struct kt_lriplan_opts {
     const char *patient;        /* PATIENT.yaml */
     const char *outdir;         /* PLAN_DIR */
+    const char *shown_outdir;   /* PLAN_DIR as the outputs name it (NULL: outdir; the folder
+                                   written is renamed into it when whole) */
     const char *base;           /* base eye scene; NULL: the repository's plans/eye.yaml */
     double step;                /* arc added per step, deg (5) */
     int fast;                   /* coarse mesh, the floor refinement at KT_LRIPLAN_FAST_FLOOR */
@@ -21,6 +23,7 @@ typedef struct kt_lriplan_opts {
                                    lriplan_eye.h; default temporal) */
     double plan_max_ratio;      /* --plan-max-ratio: the planned factor's limit (augsolve(1)) */
     int state;                  /* --state: KT_WOUND_HEALED (default) or KT_WOUND_IMMEDIATE */
+    int jobs;                   /* --jobs: families at once (lib/planner/lp_run.h; 0: decided) */
     kt_lp_cov band_extra;       /* a covariance added to the band's (non-tissue terms), D^2 in
                                    double-angle space; zero: none (lri-plan(1), BAND) */
 } kt_lriplan_opts;

@@ -52,8 +52,9 @@ int kt_fail(kt_err *e, int code, const char *fmt, ...)
 
 /* The allocation-failure test hook: the count of calls so far and the one to fail (0: none),
  * read once from KT_ALLOC_FAIL. The only mutable file-scope state of the library, used by the
- * test alone. keratome starts no threads (gmsh and the BLAS run on one, and neither calls
- * kt_calloc); the counter is atomic all the same, at no cost. */
+ * test alone. It is atomic: lri-plan's families may run on threads of their own
+ * (lib/planner/lp_run.h), and then which of them meets the failing call is theirs to race for
+ * (either ends the run the same way). */
 static _Atomic long alloc_calls;
 static _Atomic long alloc_fail_at = -1;
 
@@ -135,6 +136,13 @@ double kt_now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+double kt_thread_cpu_now(void)
+{
+    struct timespec t;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t) != 0) return NAN;
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 double kt_cpu_now(void)
@@ -548,6 +556,29 @@ static size_t mem_available(void)
         }
     fclose(f);
     return kb == SIZE_MAX || kb > SIZE_MAX / 1024 ? SIZE_MAX : kb * 1024;
+}
+
+int kt_cores_free(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    double load[1];
+    if (n < 1) n = 1;
+    if (getloadavg(load, 1) == 1 && load[0] >= 0) n -= (long)(load[0] + 0.5);
+    return n < 1 ? 1 : (int)n;
+}
+
+size_t kt_mem_room(void)
+{
+    size_t as = as_room(), avail = mem_available();
+    return as < avail ? as : avail;
+}
+
+int kt_as_limited(void)
+{
+    struct rlimit r;
+    int as = getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY;
+    int data = getrlimit(RLIMIT_DATA, &r) == 0 && r.rlim_cur != RLIM_INFINITY;
+    return as || data;
 }
 
 int kt_mem_budget(double bytes, const char *what, kt_err *e)

@@ -43,6 +43,8 @@ double kt_now(void);
 /* The process's CPU seconds so far (user + system, every thread): what a phase costs on a shared
  * machine, where its wall seconds are the load's; NAN when the system cannot say. */
 double kt_cpu_now(void);
+/* The calling thread's CPU seconds (user and system; CLOCK_THREAD_CPUTIME_ID), NAN if unknown. */
+double kt_thread_cpu_now(void);
 
 /* Progress on stderr: a bar on a TTY, a plain line every 10% otherwise, nothing when quiet. */
 typedef struct kt_progress {
@@ -95,6 +97,15 @@ const char *kt_io_cause(int err);
  * analysis), checked before the work that fills it: the failure is immediate and names the
  * need, instead of an allocation failing after minutes, or the OOM killer's SIGKILL. */
 int kt_mem_budget(double bytes, const char *what, kt_err *e);
+
+/* For a caller that may run independent work side by side: the cores online less the 1-minute
+ * load average (rounded), at least 1; and the bytes it may still take (MemAvailable, and under
+ * RLIMIT_AS the address space left: the smaller; SIZE_MAX when neither is known). kt_as_limited:
+ * 1 under an address-space (ulimit -v) or data (ulimit -d) limit, where a second thread's first
+ * BLAS call could not map its work buffer (blas.h) and must not be made. */
+int kt_cores_free(void);
+size_t kt_mem_room(void);
+int kt_as_limited(void);
 
 /* An output must not be one of the tool's inputs: writing it would destroy the input (mesh-prep
  * S.yaml -o S.yaml). kt_out_distinct: KT_EINPUT "OUT: the output is the input IN (the same

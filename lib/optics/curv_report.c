@@ -630,7 +630,7 @@ static void provenance(FILE *f, const kt_report *r)
     fputs("<h2>7. Provenance</h2>\n<table id=\"provenance\">\n", f);
     prov_row(f, "keratome", r->version);
     prov_row(f, "run folder", r->run_dir);
-    prov_row(f, "scene", r->plan ? r->plan->scene_path : NULL);
+    prov_row(f, "scene", r->scene_path ? r->scene_path : r->plan ? r->plan->scene_path : NULL);
     prov_row(f, "plan", r->plan_path);
     snprintf(buf, sizeof buf, "%s: %d nodes, %d tets, element order %d", r->mesh, r->mesh_nn, r->mesh_ne, r->mesh_order);
     prov_row(f, "mesh", buf);

@@ -60,6 +60,7 @@ typedef struct kt_report_main {
 
 typedef struct kt_report {
     const char *version, *run_dir, *mesh, *plan_path, *run_yaml; /* run_yaml: its text, or NULL */
+    const char *scene_path;     /* the scene as the provenance names it (NULL: the plan's) */
     const kt_plan *plan;              /* NULL: no plan */
     int mesh_nn, mesh_ne, mesh_order;
     int nstep;

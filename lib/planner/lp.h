@@ -83,7 +83,13 @@ typedef struct kt_lp_opts {
                                    or KT_WOUND_IMMEDIATE; overrides the base's wound.state */
     kt_lp_cov band_extra;       /* a covariance added to the prediction's (non-tissue terms:
                                    healing, blade depth, keratometry), D^2; zero: none */
-    kt_lp_sink sink;            /* NULL, or called with every solved step of every family */
+    int jobs;                   /* families run side by side, each on a thread of its own: 1
+                                   one at a time, 2 or more at most that many at once; 0 (the
+                                   default) decides (lp_run.h). The answer is the same to the
+                                   bit whatever it is. */
+    kt_lp_sink sink;            /* NULL, or called with every solved step of every family;
+                                   with jobs > 1 from the families' threads, one family's steps
+                                   from one thread, in order */
     void *sink_ctx;
     kt_lp_clear clear;          /* NULL: the model's clearance (lib/model/clearance.h) from the
                                    patient's wounds and constraints.clearance (lp_trim.c); else
@@ -164,7 +170,8 @@ typedef struct kt_lp_run {
     char fallback[300];         /* "" or why the planned method fell back */
     int method;                 /* KT_AUG_* that ran */
     double cpu_cut, cpu_solve, cpu_read, cpu_sink; /* CPU seconds: edits, solves, readings, the
-                                   caller's sink */
+                                   caller's sink (the process's when the families run one at a
+                                   time, the family's threads' when side by side) */
 } kt_lp_run;
 typedef struct kt_lp_runs {
     kt_lp_run r[KT_LP_NFAM];
@@ -173,7 +180,9 @@ typedef struct kt_lp_runs {
     double sd[KT_LP_MAXQ];      /* their sd, in their unit */
     char left[256];             /* quantities with a spread and no derivative, ", "-separated */
     double cpu_physics;         /* the shared physics, CPU seconds */
-    double solve_seconds;       /* wall seconds of the physics and the solves */
+    double solve_seconds;       /* wall seconds of the families' runs: cuts, the shared
+                                   physics, the solves */
+    int jobs;                   /* how many families ran at once (1: one at a time) */
 } kt_lp_runs;
 
 typedef struct kt_lp_choice {

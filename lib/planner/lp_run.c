@@ -1,6 +1,7 @@
 /* lp_run.c: every family cut, solved and read in memory (lp_run.h). */
 #include "lp_run.h"
 
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,7 +22,7 @@ typedef struct shared {
     int nn, ne;
 } shared;
 
-/* One family's run; everything it allocates is freed by frun_free. */
+/* One family's run; everything it allocates is freed by frun_free (which leaves it empty). */
 typedef struct frun {
     const kt_lp_opts *o;
     kt_lp_answer *a;
@@ -39,6 +40,7 @@ typedef struct frun {
     const kt_fem_sens *S;
     kt_solver *sv;
     kt_lp_reader rd;
+    double (*cpu)(void);        /* the CPU clock of its figures: the process's, or its thread's */
 } frun;
 
 static void frun_free(frun *r)
@@ -52,6 +54,7 @@ static void frun_free(frun *r)
     kt_edits_plan_free(&r->ep);
     kt_mesh_free(&r->m);
     free(r->plan);
+    *r = (frun){.o = r->o, .a = r->a, .fi = r->fi, .cpu = r->cpu}; /* freed twice: nothing */
 }
 
 /* A cut the model refuses (KT_EINPUT: a piece cut off, an element left hanging by one face)
@@ -89,7 +92,7 @@ static int cut(frun *r, kt_err *e)
     const kt_lp_answer *a = r->a;
     const kt_lp_family fc = kt_lp_family_cut(a, r->fi), *f = &fc;
     kt_lp_run *run = &r->a->run.r[r->fi];
-    double c0 = kt_cpu_now();
+    double c0 = r->cpu();
     kt_incise *c = NULL;
     kt_step s;
     memset(&s, 0, sizeof s);
@@ -108,7 +111,7 @@ static int cut(frun *r, kt_err *e)
     kt_incise_end(c);
     if (more < 0) cut_refused(a, f, r->plan, e);
     if (!e->code && r->ep.nsteps == 0) kt_fail(e, KT_ERUN, "%s arcs: the plan makes no step on the mesh", f->name);
-    run->cpu_cut = kt_cpu_now() - c0;
+    run->cpu_cut = r->cpu() - c0;
     return e->code;
 }
 
@@ -148,9 +151,9 @@ static int problem(frun *r, shared *sh, kt_err *e)
     r->prob = kt_aug_problem_of(&r->m, &r->fp);
     if (kt_edits_plan_check(&r->ep, r->plan->path, &r->prob, &r->final, e)) return e->code;
     if (!sh->solved) {
-        double c0 = kt_cpu_now(), t0 = kt_now();
+        double c0 = r->cpu();
         if (shared_solve(sh, s, &r->m, band, e)) return e->code;
-        r->a->run.cpu_physics += kt_cpu_now() - c0, r->a->run.solve_seconds += kt_now() - t0;
+        r->a->run.cpu_physics += r->cpu() - c0;
         kt_log(r->o->quiet, "lri-plan: the families' shared prestress (CPU %.1f s)\n", r->a->run.cpu_physics);
         if (band) quantities(&r->a->run, &sh->S);
     }
@@ -205,13 +208,13 @@ static int step_done(frun *r, kt_err *e)
     kt_lp_step v;
     kt_lp_reading rd;
     view(r, &v);
-    double c0 = kt_cpu_now();
+    double c0 = r->cpu();
     if (kt_lp_read(&r->rd, &v, &rd, e)) return e->code;
-    double c1 = kt_cpu_now();
+    double c1 = r->cpu();
     store(run, &r->a->fam.f[r->fi], r->o->step, v.step, &rd);
     run->cpu_read += c1 - c0;
     if (r->o->sink && r->o->sink(r->o->sink_ctx, &v, e)) return e->code;
-    run->cpu_sink += kt_cpu_now() - c1;
+    run->cpu_sink += r->cpu() - c1;
     return KT_OK;
 }
 
@@ -231,7 +234,7 @@ static void fallback(frun *r)
 static int solve(frun *r, kt_err *e)
 {
     kt_lp_run *run = &r->a->run.r[r->fi];
-    double c0 = kt_cpu_now(), t0 = kt_now();
+    double c0 = r->cpu();
     kt_solver_opts so;
     memset(&so, 0, sizeof so);
     kt_aug_opts_default(&so.aug);
@@ -251,42 +254,124 @@ static int solve(frun *r, kt_err *e)
     if (rc == KT_OK && !r->o->no_band)
         kt_log(r->o->quiet, "lri-plan: %s arcs: %d derivative quantities, %.2f s in the steps' derivatives\n",
                r->a->fam.f[r->fi].name, r->S->nd, kt_solver_t_sens(r->sv));
-    run->cpu_solve = kt_cpu_now() - c0 - run->cpu_read - run->cpu_sink;
-    r->a->run.solve_seconds += kt_now() - t0;
+    run->cpu_solve = r->cpu() - c0 - run->cpu_read - run->cpu_sink;
     return rc;
 }
 
-/* One family: cut, problem, solve; its run complete. */
-static int run_family(const kt_lp_opts *o, kt_lp_answer *a, int fi, shared *sh, kt_err *e)
+/* A family's first half: cut and problem (the first family's solves the shared physics). */
+static int family_begin(frun *r, shared *sh, kt_err *e)
 {
-    frun r;
-    memset(&r, 0, sizeof r);
-    r.o = o, r.a = a, r.fi = fi;
-    kt_lp_run *run = &a->run.r[fi];
-    const kt_lp_family *f = &a->fam.f[fi];
-    kt_log(o->quiet, "lri-plan: %s arcs%s: cut, solve, read\n", f->name, a->scene.main_sim ? " after the main incision" : "");
-    if (cut(&r, e) == KT_OK && problem(&r, sh, e) == KT_OK && solve(&r, e) == KT_OK) {
-        run->nstep = r.ep.nsteps - run->skip;
+    const kt_lp_family *f = &r->a->fam.f[r->fi];
+    kt_log(r->o->quiet, "lri-plan: %s arcs%s: cut, solve, read\n", f->name, r->a->scene.main_sim ? " after the main incision" : "");
+    if (cut(r, e) == KT_OK) problem(r, sh, e);
+    return e->code;
+}
+
+/* Its second half: the solve; its run complete, everything it holds freed. */
+static int family_end(frun *r, kt_err *e)
+{
+    kt_lp_run *run = &r->a->run.r[r->fi];
+    const kt_lp_family *f = &r->a->fam.f[r->fi];
+    if (!e->code && solve(r, e) == KT_OK) {
+        run->nstep = r->ep.nsteps - run->skip;
         run->ran = 1;
-        if (run->nstep != a->trim.t[fi].nstep)
+        if (run->nstep != r->a->trim.t[r->fi].nstep)
             kt_fail(e, KT_ERUN, "%s arcs: expected %d steps of arc after the main incision's %d, the cut made %d",
-                    f->name, a->trim.t[fi].nstep, run->skip, run->nstep);
+                    f->name, r->a->trim.t[r->fi].nstep, run->skip, run->nstep);
     }
-    frun_free(&r);
-    kt_log(o->quiet || e->code, "lri-plan: %s arcs: CPU %.1f s cut, %.1f s solve, %.1f s read, %.1f s out\n", f->name,
+    frun_free(r);
+    kt_log(r->o->quiet || e->code, "lri-plan: %s arcs: CPU %.1f s cut, %.1f s solve, %.1f s read, %.1f s out\n", f->name,
            run->cpu_cut, run->cpu_solve, run->cpu_read, run->cpu_sink);
     return e->code;
+}
+
+/* The families side by side: the first one begun on the caller's thread (the shared physics),
+ * then each thread takes the next family in order until none is left or one failed. Every
+ * family has its own frun and kt_err; the shared physics is only read. */
+typedef struct pool {
+    frun *r;
+    kt_err *e;
+    shared *sh;
+    int n, next, failed;        /* families r[0 .. n), the next to take, one failed */
+    pthread_mutex_t lock;
+} pool;
+
+static void *worker(void *arg)
+{
+    pool *p = arg;
+    for (;;) {
+        pthread_mutex_lock(&p->lock);
+        int i = p->failed || p->next == p->n ? -1 : p->next++;
+        pthread_mutex_unlock(&p->lock);
+        if (i < 0) return NULL;
+        frun *r = &p->r[i];
+        kt_err *e = &p->e[i];
+        if (i > 0) family_begin(r, p->sh, e);
+        if (family_end(r, e)) {
+            pthread_mutex_lock(&p->lock);
+            p->failed = 1;
+            pthread_mutex_unlock(&p->lock);
+        }
+    }
+}
+
+/* Families 1.. on `jobs` threads after family 0's begin; a family that never started is freed
+ * unrun. The threads that cannot be started leave their share to the others (at least the
+ * caller's). */
+static void side_by_side(pool *p, int jobs)
+{
+    pthread_t th[KT_LP_NFAM];
+    int started = 0;
+    for (int t = 1; t < jobs && started < KT_LP_NFAM; t++)
+        if (pthread_create(&th[started], NULL, worker, p) == 0) started++;
+    worker(p);
+    for (int t = 0; t < started; t++) pthread_join(th[t], NULL);
+}
+
+/* How many families run at once: o->jobs when set, else 2 when the load leaves two cores free
+ * and the memory holds two runs (KT_LP_JOB_BYTES each), else 1; never more than the families,
+ * and 1 under an address-space or data limit (util.h: kt_as_limited). */
+static int jobs_for(const kt_lp_opts *o, int nfam)
+{
+    int j = o->jobs;
+    if (j <= 0) j = kt_cores_free() >= 2 && (double)kt_mem_room() >= 2 * KT_LP_JOB_BYTES ? 2 : 1;
+    if (j > nfam) j = nfam;
+    if (kt_as_limited()) j = 1;
+    return j < 1 ? 1 : j;
 }
 
 int kt_lp_runs_make(const kt_lp_opts *o, kt_lp_answer *a, kt_err *e)
 {
     memset(&a->run, 0, sizeof a->run);
+    int fam[KT_LP_NFAM], n = 0;
+    for (int i = 0; i < a->fam.n; i++)
+        if (a->trim.t[i].nstep > 0) fam[n++] = i;
     shared *sh = kt_calloc(1, sizeof *sh, e);
-    if (!sh) return e->code;
-    for (int i = 0; i < a->fam.n && !e->code; i++)
-        if (a->trim.t[i].nstep > 0) run_family(o, a, i, sh, e);
+    frun *r = kt_calloc(n ? (size_t)n : 1, sizeof *r, e);
+    kt_err *fe = kt_calloc(n ? (size_t)n : 1, sizeof *fe, e);
+    if (e->code) return free(sh), free(r), free(fe), e->code;
+    int jobs = jobs_for(o, n);
+    a->run.jobs = jobs;
+    for (int k = 0; k < n; k++)
+        r[k].o = o, r[k].a = a, r[k].fi = fam[k], r[k].cpu = jobs > 1 ? kt_thread_cpu_now : kt_cpu_now;
+    if (jobs > 1) kt_log(o->quiet, "lri-plan: %d families side by side, on %d threads\n", n, jobs);
+    double t0 = kt_now();
+    if (jobs == 1) {
+        for (int k = 0; k < n && !e->code; k++)
+            if (family_begin(&r[k], sh, e) == KT_OK) family_end(&r[k], e);
+    } else if (family_begin(&r[0], sh, &fe[0]) != KT_OK) {
+        family_end(&r[0], &fe[0]);
+    } else {
+        pool p = {r, fe, sh, n, 0, 0, PTHREAD_MUTEX_INITIALIZER};
+        side_by_side(&p, jobs);
+        pthread_mutex_destroy(&p.lock);
+    }
+    for (int k = 0; k < n && jobs > 1 && !e->code; k++) /* the first failure in family order */
+        if (fe[k].code) *e = fe[k];
+    for (int k = 0; k < n; k++) frun_free(&r[k]); /* those a failure left unstarted */
+    a->run.solve_seconds = kt_now() - t0;
     kt_physics_free(&sh->ph);
     kt_fem_sens_free(&sh->S);
-    free(sh);
+    free(sh), free(r), free(fe);
     return e->code;
 }

@@ -13,7 +13,18 @@
 
 #include "lp.h"
 
-/* a->run := every family's readings. Reads a->eye, scene, mesh, fam, trim. */
+/* The memory one family's run may take, bytes, for the choice of how many run at once
+ * (o->jobs 0): the default eye's paired family, the largest of a default plan, peaks at 3.4 GB
+ * (plans/patients/wtr-od.yaml, 2026-12-07; the converged reference's at 7 GB); two runs at once
+ * are started only when the memory left holds twice this each. */
+#define KT_LP_JOB_BYTES (6.0 * 1073741824.0)
+
+/* a->run := every family's readings. Reads a->eye, scene, mesh, fam, trim. The families run
+ * one at a time, or side by side on threads of their own (o->jobs; 0: two when the load leaves
+ * two cores free and the memory holds KT_LP_JOB_BYTES twice over; one under ulimit -v or -d):
+ * each family's numbers are its own whatever the others do, so the answer is the same to the
+ * bit. A failure of any family is the run's (the first in family order when several failed);
+ * the families not yet started are not. */
 int kt_lp_runs_make(const kt_lp_opts *o, kt_lp_answer *a, kt_err *e);
 
 #endif
