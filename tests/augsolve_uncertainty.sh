@@ -15,6 +15,8 @@
 #   4. without --uncertainty: no uncertainty.tsv, no dudp field, and the displacement and
 #      steps.tsv's non-timing columns equal the --uncertainty run's;
 #   5. --method newton --uncertainty is refused with exit 2 before anything is solved.
+#   7. the planned method's derivative matrices, made on a thread beside the factorization, give
+#      the same step files as when made after it (under ulimit -v, where no thread starts).
 #   6. curvature on these runs (issue 21 end to end): dSIA/dp in derivatives.tsv (through the
 #      dudp fields) against the central difference of curvature.tsv's sia_D over two more runs
 #      at E_inplane and iop +-5%, to 1%; sia_D_sd = sqrt(sum (dSIA/dp sd_p)^2) from
@@ -49,6 +51,16 @@ aug base "$tmp/eye.yaml" --uncertainty
 aug plain "$tmp/eye.yaml"
 aug refactor "$tmp/eye.yaml" --uncertainty --method refactor
 aug anterior "$tmp/eye.yaml" --uncertainty --output anterior
+# 7. the derivative matrices on a thread beside the factorization (base) and after it (under an
+# address-space limit, where augsolve starts no thread): the same step files, byte for byte
+(ulimit -v 16000000 && aug limited "$tmp/eye.yaml" --uncertainty) || fail "augsolve --uncertainty under ulimit -v"
+n=0
+for f in "$tmp"/base/step-*.vtk; do
+    cmp -s "$f" "$tmp/limited/${f##*/}" || fail "${f##*/}: the derivative matrices beside the factor and after it differ"
+    n=$((n + 1))
+done
+[ "$n" -ge 2 ] || fail "only $n step files"
+echo "ok   7. $n step files the same with the derivative matrices beside the factor and after it"
 # 1. the finite differences: each quantity at q +- h
 variant() { # NAME SED
     sed -e "$2" "$tmp/eye.yaml" > "$tmp/$1.yaml"

@@ -231,9 +231,8 @@ static int heal_pass(kt_plan_sens *D, const kt_edits_plan *p, const kt_mesh *fin
     return e->code;
 }
 
-int kt_plan_sens_init(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan *p,
-                      const kt_plan_factor *F, const kt_mesh *final, const kt_materials *mats,
-                      kt_err *e)
+int kt_plan_sens_matrices(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan *p,
+                          const kt_mesh *final, const kt_materials *mats, kt_err *e)
 {
     double t0 = kt_now();
     memset(D, 0, sizeof *D);
@@ -245,6 +244,15 @@ int kt_plan_sens_init(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan
     if (D->nd > KT_FEM_MULTI_MAX)
         return kt_fail(e, KT_ERUN, "%d derivative quantities (at most %d)", D->nd,
                        KT_FEM_MULTI_MAX);
+    if (D->nd && (variable_pattern(D, p, final, mats, e) || element_pass(D, p, final, mats, e) ||
+                  heal_pass(D, p, final, mats, e)))
+        return e->code;
+    D->t_setup = kt_now() - t0;
+    return KT_OK;
+}
+
+int kt_plan_sens_bind(kt_plan_sens *D, const kt_plan_factor *F, kt_err *e)
+{
     size_t n = (size_t)D->nvar, nd = (size_t)(D->nd ? D->nd : 1), nf = (size_t)F->nfree + 1;
     D->var = kt_calloc(nf, sizeof(int), e);
     D->r = kt_calloc(n * nd, sizeof(double), e);
@@ -256,10 +264,6 @@ int kt_plan_sens_init(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan
     if (e->code) return e->code;
     for (int v = 0; v < D->nvar; v++)
         if (F->pos[v] >= 0) D->var[F->pos[v]] = v;
-    if (D->nd && (variable_pattern(D, p, final, mats, e) || element_pass(D, p, final, mats, e) ||
-                  heal_pass(D, p, final, mats, e)))
-        return e->code;
-    D->t_setup = kt_now() - t0;
     return KT_OK;
 }
 

@@ -37,12 +37,15 @@ typedef struct kt_plan_sens {
     double t_setup, t_steps;         /* s */
 } kt_plan_sens;
 
-/* Set up the derivatives of S for plan p factored as F (final: the final cut mesh, mats: the
- * tangent's materials): the pattern once, then one element pass gives every dA/dq into it
- * (kt_fem_element_multi, scattered through the variables' chains). */
-int kt_plan_sens_init(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan *p,
-                      const kt_plan_factor *F, const kt_mesh *final, const kt_materials *mats,
-                      kt_err *e);
+/* Set up the derivatives of S for plan p (final: the final cut mesh, mats: the tangent's
+ * materials) in two parts. kt_plan_sens_matrices: the pattern once, then one element pass
+ * gives every dA/dq into it (kt_fem_element_multi, scattered through the variables' chains);
+ * it needs no factor, and reads p, final and mats only, so it may run on a thread of its own
+ * beside the factorization (solver_planned.c). kt_plan_sens_bind, once the plan is factored as
+ * F: the substitutions' arrays, sized by F. */
+int kt_plan_sens_matrices(kt_plan_sens *D, const kt_fem_sens *S, const kt_edits_plan *p,
+                          const kt_mesh *final, const kt_materials *mats, kt_err *e);
+int kt_plan_sens_bind(kt_plan_sens *D, const kt_plan_factor *F, kt_err *e);
 void kt_plan_sens_free(kt_plan_sens *D);
 /* The derivative fields of the step state s has just solved (kt_plan_solve, unrestricted:
  * s->v holds every variable) into du (S->nd x 3 nn of the cut mesh); with D->want valid on

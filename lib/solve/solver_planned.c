@@ -6,6 +6,7 @@
 
 #include "aug_plan_sens.h"
 
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +30,41 @@ static void planned_free(void *st)
     free(P);
 }
 
+/* The derivative matrices (kt_plan_sens_matrices), on a thread of their own beside the
+ * factorization: they read the plan, the final mesh and the materials, as the factorization
+ * does, and write only their own kt_plan_sens; the numbers are the same either way. Not under
+ * an address-space or data limit, where the two would race for the room left and the failure
+ * said would depend on which came first: there the matrices follow the factor, as they do when
+ * no thread can be started. On a busy machine the thread costs nothing the work did not. */
+typedef struct sens_job {
+    kt_plan_sens *D;
+    const kt_solver_in *in;
+    kt_err e;
+} sens_job;
+
+static void *sens_matrices(void *arg)
+{
+    sens_job *j = arg;
+    kt_plan_sens_matrices(j->D, j->in->sens, j->in->plan, j->in->final, j->in->prob->mats, &j->e);
+    return NULL;
+}
+
+/* Factor the plan, with the derivative matrices beside it (sens_job) when they may be. */
+static int factor_and_matrices(planned *P, const kt_solver_in *in, kt_err *e)
+{
+    sens_job job = {&P->D, in, {0}};
+    pthread_t th;
+    int beside = in->sens && !kt_as_limited() &&
+                 pthread_create(&th, NULL, sens_matrices, &job) == 0;
+    kt_plan_factor_build_with(&P->F, in->plan, in->final, in->prob->mats, in->o->ordering,
+                              in->prob->perm, in->o->factor, in->o->plan_panel,
+                              in->plan_max_ratio, e);
+    if (beside) pthread_join(th, NULL);
+    else if (in->sens && !e->code && !P->F.refused) sens_matrices(&job);
+    if (!e->code && job.e.code) *e = job.e;
+    return e->code;
+}
+
 static int planned_create(void **st, const kt_solver_in *in, char *why, size_t n, kt_err *e)
 {
     *st = NULL;
@@ -43,10 +79,7 @@ static int planned_create(void **st, const kt_solver_in *in, char *why, size_t n
     P->tol = in->o->tol;
     P->quiet = in->o->quiet;
     kt_plan_factor *F = &P->F;
-    if (kt_plan_factor_build_with(F, in->plan, in->final, in->prob->mats, in->o->ordering,
-                                  in->prob->perm, in->o->factor, in->o->plan_panel,
-                                  in->plan_max_ratio, e))
-        goto fail;
+    if (factor_and_matrices(P, in, e)) goto fail;
     kt_log(P->quiet, "augsolve: planned: its flops (sum of squared column counts) %.3g: intact "
            "block %.3g, increment rows of the intact columns %.3g, increments' block %.3g "
            "(METIS on the intact block %.3g); values %.3g: %.3g, %.3g, %.3g; %d supernodes, the "
@@ -63,8 +96,7 @@ static int planned_create(void **st, const kt_solver_in *in, char *why, size_t n
     if (in->sens) {
         /* The derivatives' right-hand sides read every variable of the step's solution: the
          * step's own back substitution is whole, the derivatives' are restricted instead. */
-        if (kt_plan_sens_init(&P->D, in->sens, in->plan, F, in->final, in->prob->mats, e))
-            goto fail;
+        if (kt_plan_sens_bind(&P->D, F, e)) goto fail;
         P->D.want = P->S.want;
         P->S.want = NULL;
         P->S.want_cols = 0;

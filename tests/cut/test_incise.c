@@ -14,9 +14,7 @@
 #include "kt_test.h"
 #include "predicates.h"
 
-/* gmsh (through kt_eye_mesh) keeps some allocations to the end: not ours to report. */
-const char *__lsan_default_suppressions(void);
-const char *__lsan_default_suppressions(void) { return "leak:libgmsh.so\n"; }
+#include "kt_test_gmsh.h"
 
 /* ---- predicates against __int128 on dyadic coordinates ---- */
 

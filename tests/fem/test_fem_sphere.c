@@ -15,10 +15,7 @@
 
 enum { INNER = 1, SYMX, SYMY, SYMZ }; /* surface tags */
 
-/* gmsh 4.8 leaks a few small blocks inside its surface mesher (meshGFace); LeakSanitizer reads
- * this hook in the sanitizer build, so only leaks from libgmsh itself are ignored. */
-const char *__lsan_default_suppressions(void);
-const char *__lsan_default_suppressions(void) { return "leak:libgmsh.so\n"; }
+#include "kt_test_gmsh.h"
 
 /* Lame: u_r(r) = p a^3 / (E (b^3 - a^3)) ((1 - 2 nu) r + (1 + nu) b^3 / (2 r^2)). */
 static double lame_ur(double r, double nu)

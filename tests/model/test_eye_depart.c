@@ -20,11 +20,7 @@
 #include "scene.h"
 #include "scene_write.h"
 
-/* gmsh 4.8 leaks a few surface-meshing buffers per run (inside libgmsh, not ours). */
-const char *__lsan_default_suppressions(void);
-const char *__lsan_default_suppressions(void) { return "leak:libgmsh.so\n"; }
-const char *__lsan_default_options(void);
-const char *__lsan_default_options(void) { return "print_suppressions=0"; }
+#include "kt_test_gmsh.h"
 
 #define NP KT_ZERN_NP
 

@@ -26,11 +26,7 @@
 #include "scene.h"
 #include "surffit.h"
 
-/* gmsh 4.8 leaks a few surface-meshing buffers per run (inside libgmsh, not ours). */
-const char *__lsan_default_suppressions(void);
-const char *__lsan_default_suppressions(void) { return "leak:libgmsh.so\n"; }
-const char *__lsan_default_options(void);
-const char *__lsan_default_options(void) { return "print_suppressions=0"; }
+#include "kt_test_gmsh.h"
 
 /* Solve the n x n normal equations A x = b (Cholesky; n <= 10); -1 when not positive. */
 static int chol_solve(int n, double A[10][10], double b[10], double x[10])
