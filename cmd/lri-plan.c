@@ -81,8 +81,9 @@ static int tool_main(int argc, char **argv)
             }
             break;
         case 'j':
-            if (kt_parse_number(optarg, &jobs) || !(jobs >= 1 && jobs <= 3) || jobs != (int)jobs) {
-                fprintf(stderr, "lri-plan: --jobs %s: expected a whole number from 1 to 3 (the families)\n", optarg);
+            if (kt_parse_number(optarg, &jobs) || !(jobs >= 1 && jobs <= KT_LP_NFAM) || jobs != (int)jobs) {
+                fprintf(stderr, "lri-plan: --jobs %s: expected a whole number from 1 to %d (the families)\n", optarg,
+                        KT_LP_NFAM);
                 return KT_EINPUT;
             }
             o.jobs = (int)jobs;

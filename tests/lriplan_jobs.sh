@@ -6,7 +6,8 @@
 # file of run/ and report/ the same bytes but for the run's timings (steps.tsv's t_* columns,
 # run.yaml's t_total_s, the report's times) and the plan folder's name (report.html names the
 # folder the plan was renamed into, not the temporary one it was written in), the summary the
-# same but for its seconds; report/steps.pvd names the run's VTKs relative to itself (they open
+# same but for its seconds; with the refactor fallback in both families (METIS at every step,
+# on both threads at once) the step files are the same bytes; report/steps.pvd names the run's VTKs relative to itself (they open
 # after the rename); --jobs 0 and 4 are refused
 # (exit 2, one line naming the option, nothing written).
 set -uo pipefail
@@ -78,6 +79,21 @@ done < <(cd "$T/j1" && find run report -type f | sort)
 cmp -s <(sed -E 's/[0-9]+ s\b/N s/g' "$T/sum1") <(sed -E 's/[0-9]+ s\b/N s/g; s#/j2/#/j1/#g; s#/j2,#/j1,#g' "$T/sum2") ||
     fail "the summaries differ: $(diff "$T/sum1" "$T/sum2" | head -5)"
 echo "ok   run/ and report/: $n files the same, the summary the same"
+# the refactor fallback (--plan-max-ratio 0.5: every family refused, METIS at every step, in
+# both families at once with --jobs 2): the step files the same bytes
+sed 's/max_arc: 15 deg/max_arc: 10 deg/' "$T/p.yaml" > "$T/p10.yaml"
+for j in 1 2; do
+    "$B/lri-plan" --fast -j $j -q --no-uncertainty --plan-max-ratio 0.5 "$T/p10.yaml" -o "$T/f$j" > /dev/null 2> "$T/ferr$j" ||
+        fail "--jobs $j --plan-max-ratio 0.5: $(cat "$T/ferr$j")"
+    grep -q "falling back to --method refactor" "$T/ferr$j" || fail "--plan-max-ratio 0.5 did not fall back: $(cat "$T/ferr$j")"
+done
+n=0
+for f in "$T"/f1/run/step-*.vtk; do
+    cmp -s "$f" "$T/f2/run/${f##*/}" || fail "refactor fallback: run/${f##*/} differs between --jobs 1 and 2"
+    n=$((n + 1))
+done
+[ "$n" -ge 2 ] || fail "refactor fallback: only $n step files"
+echo "ok   the refactor fallback (METIS every step, two families at once): $n step files the same"
 for bad in 0 4 x; do
     rm -rf "$T/bad"
     "$B/lri-plan" --fast -j "$bad" -q "$T/p.yaml" -o "$T/bad" > /dev/null 2> "$T/err"

@@ -389,7 +389,8 @@ static int prov_rows(const run_ctx *c, char (*rows)[ROWLEN], const char **ptr)
 static const char *shown(const kt_curv_opts *o, const char *path, char *buf, size_t n)
 {
     size_t l = o->run_dir ? strlen(o->run_dir) : 0;
-    if (!path || !o->shown_dir || !l || strncmp(path, o->run_dir, l) != 0) return path;
+    if (!path || !o->shown_dir || !l || strncmp(path, o->run_dir, l) != 0 || (path[l] && path[l] != '/'))
+        return path;
     snprintf(buf, n, "%s%s", o->shown_dir, path + l);
     return buf;
 }

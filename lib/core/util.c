@@ -527,6 +527,13 @@ void kt_tool_start(void)
 #endif
 }
 
+void kt_thread_start(void)
+{
+#ifdef _OPENMP
+    omp_set_dynamic(1);
+#endif
+}
+
 /* The bytes of address space left under RLIMIT_AS (SIZE_MAX without a limit). */
 static size_t as_room(void)
 {

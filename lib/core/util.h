@@ -129,6 +129,10 @@ int kt_outdir_distinct(const char *dir, const char *const *names, int nnames, co
  * CHOLMOD's allocations go through kt_huge_* (SuiteSparse_config's hooks), and its OpenMP
  * regions are bounded by the free cores (omp_set_dynamic). */
 void kt_tool_start(void);
+/* At the start of a thread the library starts: what kt_tool_start set for the tool's thread and
+ * a new thread does not inherit (OpenMP's dynamic adjustment is per thread: without it
+ * CHOLMOD's regions on that thread would take their 4 threads whatever the load). */
+void kt_thread_start(void);
 
 /* A tool's end, with exit status code: stdio flushed, then _exit, skipping the libraries'
  * destructors: OpenBLAS's joins its worker threads, and one whose buffer allocation failed

@@ -237,8 +237,8 @@ void kt_lp_answer_free(kt_lp_answer *a);
 double kt_lp_deg_mark(double deg);
 
 /* The decimals (2 to 4) that print a residual of r D beside a target of t D (both with them) so
- * that the two figures never read as equal when r misses t: 0.503 against 0.50, not 0.50
- * against 0.50. */
+ * that the two figures do not read as equal when r misses t by 0.00005 D or more: 0.503 against
+ * 0.50, not 0.50 against 0.50. */
 int kt_lp_res_digits(double r, double t);
 
 #endif

@@ -296,9 +296,12 @@ typedef struct pool {
     pthread_mutex_t lock;
 } pool;
 
+/* One thread of the pool (the caller's too): families in order from p->next, each to its end,
+ * until none is left or one has failed. */
 static void *worker(void *arg)
 {
     pool *p = arg;
+    kt_thread_start();
     for (;;) {
         pthread_mutex_lock(&p->lock);
         int i = p->failed || p->next == p->n ? -1 : p->next++;

@@ -45,6 +45,7 @@ typedef struct sens_job {
 static void *sens_matrices(void *arg)
 {
     sens_job *j = arg;
+    kt_thread_start();
     kt_plan_sens_matrices(j->D, j->in->sens, j->in->plan, j->in->final, j->in->prob->mats, &j->e);
     return NULL;
 }

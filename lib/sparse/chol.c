@@ -82,8 +82,7 @@ static cholmod_factor *analyze_metis(cholmod_sparse *A, cholmod_sparse *B, cholm
                            nz / ((double)n * (double)n) > c->metis_dswitch)) {
         for (size_t k = 0; k < n; k++) perm[k] = (int)k;
     } else {
-        idx_t nn = (idx_t)n;
-        st = METIS_NodeND(&nn, (idx_t *)B->p, (idx_t *)B->i, NULL, NULL, (idx_t *)perm, iperm);
+        st = kt_metis_nodend((int)n, (const int *)B->p, (const int *)B->i, NULL, perm, (int *)iperm);
         if (st != METIS_OK) kt_fail(e, KT_ERUN, "METIS_NodeND failed (%s)", kt_metis_status(st));
     }
     cholmod_factor *L = NULL;

@@ -5,6 +5,7 @@
 #include <camd.h>
 #include <cholmod.h>
 #include <metis.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -112,6 +113,19 @@ static int order_camd(const graph *g, const int *last, const int *rank, int nlas
     return KT_OK;
 }
 
+static pthread_mutex_t metis_lock = PTHREAD_MUTEX_INITIALIZER;
+
+int kt_metis_nodend(int n, const int *xadj, const int *adj, int *options, int *perm, int *iperm)
+{
+    _Static_assert(sizeof(idx_t) == sizeof(int), "METIS built with 32-bit indices");
+    idx_t nn = n;
+    pthread_mutex_lock(&metis_lock);
+    int st = METIS_NodeND(&nn, (idx_t *)xadj, (idx_t *)adj, NULL, (idx_t *)options, (idx_t *)perm,
+                          (idx_t *)iperm);
+    pthread_mutex_unlock(&metis_lock);
+    return st;
+}
+
 /* METIS nested dissection. Its 'perm' output is our perm (new node i = old perm[i]): checked
  * by fill and tree height on the beams, where the other reading is far worse (height 19092 vs
  * 744 DOFs on 5x5x1024). */
@@ -131,7 +145,7 @@ static int order_metis(const graph *g, int *perm, kt_err *e)
         free(miperm);
         return e->code;
     }
-    int st = METIS_NodeND(&n, (idx_t *)g->ptr, (idx_t *)g->adj, NULL, options, mperm, miperm);
+    int st = kt_metis_nodend(g->n, g->ptr, g->adj, (int *)options, (int *)mperm, (int *)miperm);
     for (int i = 0; i < g->n; i++) perm[i] = (int)mperm[i];
     free(mperm);
     free(miperm);

@@ -23,6 +23,14 @@ const char *kt_order_name(int method);
  * METIS_ERROR, and no ordering was made. */
 const char *kt_metis_status(int status);
 
+/* METIS_NodeND of the graph (n vertices, CSR xadj/adj, no weights; options NULL: METIS's
+ * defaults) into perm and iperm, its status returned. The one door to METIS: METIS seeds and
+ * draws from the C library's one rand() stream at every call, so two calls at once (lri-plan's
+ * families on their threads) would interleave their draws and change each other's orderings;
+ * they take turns here, under the one lock of the library (a file-scope mutex, with the
+ * allocation-failure test's counter the only mutable state at file scope). */
+int kt_metis_nodend(int n, const int *xadj, const int *adj, int *options, int *perm, int *iperm);
+
 /* Compute a node permutation. last (nlast nodes, any order, no repeats) is the set that the
  * constrained and metis-last methods put at the end; the other methods ignore it. With
  * nlast == 0 the constrained method is plain AMD. perm has m->nn entries. */
