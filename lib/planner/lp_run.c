@@ -318,9 +318,9 @@ static void *worker(void *arg)
     }
 }
 
-/* Families 1.. on `jobs` threads after family 0's begin; a family that never started is freed
- * unrun. The threads that cannot be started leave their share to the others (at least the
- * caller's). */
+/* Families on `jobs` threads (the caller's one of them) after family 0's begin; with one job
+ * that is the families one at a time, in order. A family that never started is freed unrun.
+ * The threads that cannot be started leave their share to the others (at least the caller's). */
 static void side_by_side(pool *p, int jobs)
 {
     pthread_t th[KT_LP_NFAM];
@@ -359,17 +359,12 @@ int kt_lp_runs_make(const kt_lp_opts *o, kt_lp_answer *a, kt_err *e)
         r[k].o = o, r[k].a = a, r[k].fi = fam[k], r[k].cpu = jobs > 1 ? kt_thread_cpu_now : kt_cpu_now;
     if (jobs > 1) kt_log(o->quiet, "lri-plan: %d families side by side, on %d threads\n", n, jobs);
     double t0 = kt_now();
-    if (jobs == 1) {
-        for (int k = 0; k < n && !e->code; k++)
-            if (family_begin(&r[k], sh, e) == KT_OK) family_end(&r[k], e);
-    } else if (family_begin(&r[0], sh, &fe[0]) != KT_OK) {
-        family_end(&r[0], &fe[0]);
-    } else {
+    if (n > 0 && family_begin(&r[0], sh, &fe[0]) == KT_OK) { /* one job: the pool on this thread alone */
         pool p = {r, fe, sh, n, 0, 0, PTHREAD_MUTEX_INITIALIZER};
         side_by_side(&p, jobs);
         pthread_mutex_destroy(&p.lock);
     }
-    for (int k = 0; k < n && jobs > 1 && !e->code; k++) /* the first failure in family order */
+    for (int k = 0; k < n && !e->code; k++) /* the first failure in family order */
         if (fe[k].code) *e = fe[k];
     for (int k = 0; k < n; k++) frun_free(&r[k]); /* those a failure left unstarted */
     a->run.solve_seconds = kt_now() - t0;
