@@ -1,7 +1,6 @@
 /* lp_run.c: every family cut, solved and read in memory (lp_run.h). */
 #include "lp_run.h"
 
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +10,7 @@
 #include "lp_family.h"
 #include "lp_read.h"
 #include "lp_trim.h"
+#include "pool.h"
 #include "solver.h"
 
 /* The physics the families share: solved once, adopted by every run on the same intact mesh. */
@@ -41,6 +41,8 @@ typedef struct frun {
     kt_solver *sv;
     kt_lp_reader rd;
     double (*cpu)(void);        /* the CPU clock of its figures: the process's, or its thread's */
+    const int *stop;            /* NULL, or the pool's flag (pool.h), with its job number: */
+    int job;                    /* an earlier family failed, this one's answer is not needed */
 } frun;
 
 static void frun_free(frun *r)
@@ -230,7 +232,20 @@ static void fallback(frun *r)
             r->a->fam.f[r->fi].name, why, run->method == KT_AUG_REFACTOR ? "refactor --ordering metis" : "augmented");
 }
 
-/* Every step through the solver's front door, one factorization for the family. */
+/* Whether an earlier family has failed (the pool's stop, pool.h): then this one stops, said on
+ * stderr, where it is (after step k of n; k = -1: before its factorization). */
+static int stopped(const frun *r, int k, int n)
+{
+    if (!r->stop || !kt_pool_stopped(r->stop, r->job)) return 0;
+    if (k < 0) kt_log(r->o->quiet, "lri-plan: %s arcs: stopped before the factorization: an earlier family failed\n",
+                      r->a->fam.f[r->fi].name);
+    else kt_log(r->o->quiet, "lri-plan: %s arcs: stopped after step %d of %d: an earlier family failed\n",
+                r->a->fam.f[r->fi].name, k, n);
+    return 1;
+}
+
+/* Every step through the solver's front door, one factorization for the family; before it and
+ * between two steps it stops (KT_POOL_STOPPED, e untouched) when an earlier family has failed. */
 static int solve(frun *r, kt_err *e)
 {
     kt_lp_run *run = &r->a->run.r[r->fi];
@@ -241,12 +256,17 @@ static int solve(frun *r, kt_err *e)
     so.aug.method = KT_AUG_PLANNED, so.aug.ordering = KT_AUG_ORDER_METIS, so.aug.quiet = r->o->quiet;
     so.plan_max_ratio = r->o->plan_max_ratio;
     so.sens = r->o->no_band ? NULL : r->S;
+    if (stopped(r, -1, r->ep.nsteps)) return KT_POOL_STOPPED;
     if (kt_solver_create(&r->sv, &r->prob, &r->ep, &r->final, &so, e)) return e->code;
     kt_mesh_free(&r->final);
     fallback(r);
     int rc = kt_lp_reader_init(&r->rd, &r->m, r->a->trim.t[r->fi].meridian, e);
     if (rc == KT_OK) rc = step_done(r, e);
     for (int k = 1; rc == KT_OK && k <= r->ep.nsteps; k++) {
+        if (stopped(r, k - 1, r->ep.nsteps)) {
+            rc = KT_POOL_STOPPED;
+            break;
+        }
         int solved = 0;
         rc = kt_solver_step(r->sv, &solved, e);
         if (rc == KT_OK && solved) rc = step_done(r, e);
@@ -267,68 +287,41 @@ static int family_begin(frun *r, shared *sh, kt_err *e)
     return e->code;
 }
 
-/* Its second half: the solve; its run complete, everything it holds freed. */
+/* Its second half: the solve; its run complete (or stopped: KT_POOL_STOPPED), everything it
+ * holds freed. */
 static int family_end(frun *r, kt_err *e)
 {
     kt_lp_run *run = &r->a->run.r[r->fi];
     const kt_lp_family *f = &r->a->fam.f[r->fi];
-    if (!e->code && solve(r, e) == KT_OK) {
+    int rc = e->code;
+    if (rc == KT_OK && (rc = solve(r, e)) == KT_OK) {
         run->nstep = r->ep.nsteps - run->skip;
         run->ran = 1;
         if (run->nstep != r->a->trim.t[r->fi].nstep)
-            kt_fail(e, KT_ERUN, "%s arcs: expected %d steps of arc after the main incision's %d, the cut made %d",
-                    f->name, r->a->trim.t[r->fi].nstep, run->skip, run->nstep);
+            rc = kt_fail(e, KT_ERUN, "%s arcs: expected %d steps of arc after the main incision's %d, the cut made %d",
+                         f->name, r->a->trim.t[r->fi].nstep, run->skip, run->nstep);
     }
     frun_free(r);
-    kt_log(r->o->quiet || e->code, "lri-plan: %s arcs: CPU %.1f s cut, %.1f s solve, %.1f s read, %.1f s out\n", f->name,
+    kt_log(r->o->quiet || rc, "lri-plan: %s arcs: CPU %.1f s cut, %.1f s solve, %.1f s read, %.1f s out\n", f->name,
            run->cpu_cut, run->cpu_solve, run->cpu_read, run->cpu_sink);
-    return e->code;
+    return rc;
 }
 
-/* The families side by side: the first one begun on the caller's thread (the shared physics),
- * then each thread takes the next family in order until none is left or one failed. Every
- * family has its own frun and kt_err; the shared physics is only read. */
-typedef struct pool {
+/* The families side by side (pool.h): family i > 0 begun and ended on a pool thread, family 0
+ * ended there after its begin on the caller's thread (the shared physics, only read after it).
+ * Every family has its own frun; a failure stops the later families at their next step. */
+typedef struct families {
     frun *r;
-    kt_err *e;
     shared *sh;
-    int n, next, failed;        /* families r[0 .. n), the next to take, one failed */
-    pthread_mutex_t lock;
-} pool;
+} families;
 
-/* One thread of the pool (the caller's too): families in order from p->next, each to its end,
- * until none is left or one has failed. */
-static void *worker(void *arg)
+static int family_job(void *ctx, int i, const int *stop, kt_err *e)
 {
-    pool *p = arg;
-    kt_thread_start();
-    for (;;) {
-        pthread_mutex_lock(&p->lock);
-        int i = p->failed || p->next == p->n ? -1 : p->next++;
-        pthread_mutex_unlock(&p->lock);
-        if (i < 0) return NULL;
-        frun *r = &p->r[i];
-        kt_err *e = &p->e[i];
-        if (i > 0) family_begin(r, p->sh, e);
-        if (family_end(r, e)) {
-            pthread_mutex_lock(&p->lock);
-            p->failed = 1;
-            pthread_mutex_unlock(&p->lock);
-        }
-    }
-}
-
-/* Families on `jobs` threads (the caller's one of them) after family 0's begin; with one job
- * that is the families one at a time, in order. A family that never started is freed unrun.
- * The threads that cannot be started leave their share to the others (at least the caller's). */
-static void side_by_side(pool *p, int jobs)
-{
-    pthread_t th[KT_LP_NFAM];
-    int started = 0;
-    for (int t = 1; t < jobs && started < KT_LP_NFAM; t++)
-        if (pthread_create(&th[started], NULL, worker, p) == 0) started++;
-    worker(p);
-    for (int t = 0; t < started; t++) pthread_join(th[t], NULL);
+    families *c = ctx;
+    frun *r = &c->r[i];
+    r->stop = stop, r->job = i;
+    if (i > 0) family_begin(r, c->sh, e);
+    return family_end(r, e);
 }
 
 /* How many families run at once: o->jobs when set, else 2 when the load leaves two cores free
@@ -350,26 +343,21 @@ int kt_lp_runs_make(const kt_lp_opts *o, kt_lp_answer *a, kt_err *e)
     for (int i = 0; i < a->fam.n; i++)
         if (a->trim.t[i].nstep > 0) fam[n++] = i;
     shared *sh = kt_calloc(1, sizeof *sh, e);
-    frun *r = kt_calloc(n ? (size_t)n : 1, sizeof *r, e);
-    kt_err *fe = kt_calloc(n ? (size_t)n : 1, sizeof *fe, e);
-    if (e->code) return free(sh), free(r), free(fe), e->code;
+    frun *r = sh ? kt_calloc(n ? (size_t)n : 1, sizeof *r, e) : NULL;
+    if (!r) return free(sh), e->code;
     int jobs = jobs_for(o, n);
     a->run.jobs = jobs;
     for (int k = 0; k < n; k++)
         r[k].o = o, r[k].a = a, r[k].fi = fam[k], r[k].cpu = jobs > 1 ? kt_thread_cpu_now : kt_cpu_now;
     if (jobs > 1) kt_log(o->quiet, "lri-plan: %d families side by side, on %d threads\n", n, jobs);
     double t0 = kt_now();
-    if (n > 0 && family_begin(&r[0], sh, &fe[0]) == KT_OK) { /* one job: the pool on this thread alone */
-        pool p = {r, fe, sh, n, 0, 0, PTHREAD_MUTEX_INITIALIZER};
-        side_by_side(&p, jobs);
-        pthread_mutex_destroy(&p.lock);
-    }
-    for (int k = 0; k < n && !e->code; k++) /* the first failure in family order */
-        if (fe[k].code) *e = fe[k];
+    families c = {r, sh};
+    if (n > 0 && family_begin(&r[0], sh, e) == KT_OK) /* one job: the families one at a time */
+        kt_pool_run(n, jobs, family_job, &c, e);
     for (int k = 0; k < n; k++) frun_free(&r[k]); /* those a failure left unstarted */
     a->run.solve_seconds = kt_now() - t0;
     kt_physics_free(&sh->ph);
     kt_fem_sens_free(&sh->S);
-    free(sh), free(r), free(fe);
+    free(sh), free(r);
     return e->code;
 }

@@ -24,7 +24,7 @@
  * two cores free and the memory holds KT_LP_JOB_BYTES twice over; one under ulimit -v or -d):
  * each family's numbers are its own whatever the others do, so the answer is the same to the
  * bit. A failure of any family is the run's (the first in family order when several failed);
- * the families not yet started are not. */
+ * the families not yet started are not, and the later ones running stop at their next step. */
 int kt_lp_runs_make(const kt_lp_opts *o, kt_lp_answer *a, kt_err *e);
 
 #endif
