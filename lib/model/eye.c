@@ -426,7 +426,7 @@ static int size_fields(eye_build *b, kt_err *e)
     double hring = fmin(eye->h_incision, hc);
     for (int i = 0; i < eye->nring && eye->h_floor > 0; i++) {
         int dist = floor_distance(b, i, expr, sizeof expr);
-        double len = (hring - eye->h_floor) / KT_EYE_FLOOR_GRADING;
+        double len = (hring - eye->h_floor) / kt_eye_floor_slope(eye);
         if (dist > 0 && (f = graded(b, dist, eye->h_floor, 0.5 * eye->h_floor, len, hring, hmax)) > 0)
             fl[n++] = f;
     }

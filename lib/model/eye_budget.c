@@ -11,7 +11,7 @@
  *     graded threshold), integrated in closed form,
  *   each ring's floor (eye.mesh_size.incision_floor): half a tube about the floor's arcs in
  *     the sector (the posterior surface, 65 um under a 90% floor, clips the rest), whose size
- *     grows from h_floor at h_floor/2 by KT_EYE_FLOOR_GRADING per unit distance to
+ *     grows from h_floor at h_floor/2 by floor_grading per unit distance to
  *     min(h_incision, h_cornea), integrated numerically (measured on plans/eye.yaml's ring at
  *     60/42/30/21 um: 0.92/0.92/0.88/0.84 of the tets the floor field added).
  * The sizes are the mesher's (kt_eye_sizes caps them by the thickness rule). Grading zones
@@ -87,7 +87,7 @@ int kt_eye_estimate_tets(const kt_eye *eye, int order, double *tets, kt_err *e)
             double rho = top[0] + depth * dir[0];
             double sector = eye->floor_sector > 0 && eye->floor_sector < 90 ? eye->floor_sector : 90;
             n += tube_tets(4 * sector * KT_PI / 180 * rho, eye->h_floor, 0.5 * eye->h_floor,
-                           fmin(eye->h_incision, hc), KT_EYE_FLOOR_GRADING);
+                           fmin(eye->h_incision, hc), kt_eye_floor_slope(eye));
         }
     }
     *tets = n;

@@ -172,6 +172,9 @@ static int check_sizes(const kt_eye *eye, kt_err *e)
                        eye->extent);
     if (!isfinite(eye->steep_axis))
         return kt_fail(e, KT_EINPUT, "eye.steep_axis: expected an angle in deg");
+    if (!(eye->floor_grading == 0 || (eye->floor_grading >= 0.1 && eye->floor_grading <= 2)))
+        return kt_fail(e, KT_EINPUT, "eye.mesh_size.floor_grading: expected 0 (the default) or a number in [0.1, 2], got %g",
+                       eye->floor_grading);
     if (eye->r_ant_steep > eye->r_ant_flat)
         return kt_fail(e, KT_EINPUT,
                        "eye.r_ant_steep: expected at most r_ant_flat (%g mm), got %g mm",

@@ -22,9 +22,10 @@ enum { KT_EYE_REG_CORNEA = 1, KT_EYE_REG_LIMBUS, KT_EYE_REG_SCLERA };
 enum { KT_EYE_SURF_ANTERIOR = 1, KT_EYE_SURF_INNER, KT_EYE_SURF_FIXED, KT_EYE_SURF_OUTER,
        KT_EYE_SURF_RING0 = 10 };
 
-/* Size slope away from an incision ring's floor (size increase per unit distance): at distance
- * d from the floor the size is h_floor + KT_EYE_FLOOR_GRADING (d - h_floor / 2), up to the
- * ring's size (eye.c's size field; eye_budget.c's estimate). */
+/* The default size slope away from an incision ring's floor (size increase per unit distance,
+ * eye.mesh_size.floor_grading): at distance d from the floor the size is
+ * h_floor + floor_grading (d - h_floor / 2), up to the ring's size (eye.c's size field;
+ * eye_budget.c's estimate). */
 #define KT_EYE_FLOOR_GRADING 0.5
 
 /* The oval warp's ramp (eye_geom.c): its whole move is reached KT_EYE_OVAL_RAMP (rc - rv) outside
@@ -75,6 +76,8 @@ typedef struct kt_eye {
     double h_optical, h_incision, h_cornea, h_sclera; /* element sizes, mm */
     double h_floor;                 /* size at the rings' floor (the crack front of an incision),
                                        mm; 0: no floor refinement (eye.mesh_size.incision_floor) */
+    double floor_grading;           /* the size's growth away from the floor, mm per mm
+                                       (eye.mesh_size.floor_grading); 0: KT_EYE_FLOOR_GRADING */
     double floor_centre, floor_sector; /* the floor is refined within floor_sector deg of the
                                        meridian floor_centre and its opposite (the scene's
                                        ordering.centre/sector); sector 0 or >= 90: all around */
@@ -88,6 +91,12 @@ typedef struct kt_eye {
                                        (eye_depart.h; eye.anterior_departure, posterior_departure);
                                        order 0: none */
 } kt_eye;
+
+/* The floor's size slope of eye (mm per mm): floor_grading, or KT_EYE_FLOOR_GRADING when 0. */
+static inline double kt_eye_floor_slope(const kt_eye *eye)
+{
+    return eye->floor_grading > 0 ? eye->floor_grading : KT_EYE_FLOOR_GRADING;
+}
 
 typedef struct kt_eye_geom {
     double cs, cf;          /* steep and flat anterior curvatures, 1/mm */

@@ -32,6 +32,7 @@ void kt_scene_eye_defaults(kt_eye *eye)
     eye->h_incision = 0.15;
     eye->h_cornea = 0.4;
     eye->h_sclera = 1.2;
+    eye->floor_grading = KT_EYE_FLOOR_GRADING;
 }
 
 /* ---- eye ------------------------------------------------------------------------------- */
@@ -105,8 +106,8 @@ static int parse_rings(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
     return KT_OK;
 }
 
-static const char *const SIZE_KEYS[] = {"optical_zone", "incision", "incision_floor", "cornea", "sclera",
-                                        "site", NULL};
+static const char *const SIZE_KEYS[] = {"optical_zone", "incision", "incision_floor", "floor_grading",
+                                        "cornea", "sclera", "site", NULL};
 static const char *const SITE_KEYS[] = {"meridian", "distance", "radius", NULL};
 
 static int parse_sizes(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
@@ -128,6 +129,11 @@ static int parse_sizes(kt_yml *y, const yaml_node_t *n, kt_eye *eye, kt_err *e)
     if (fl && eye->h_floor > eye->h_incision)
         return kt_yml_fail(y, fl, e, "eye.mesh_size.incision_floor: expected at most mesh_size.incision (%g mm), got %g mm",
                            eye->h_incision, eye->h_floor);
+    /* How fast the floor's size grows away from it (mm per mm, a number): 0.1 (the size about
+     * doubled ten floor sizes away) to 2 (tripled one floor size away; steeper jumps leave
+     * gmsh's graded meshes poorly shaped). Without incision_floor it has nothing to grade. */
+    if (kt_yml_key_quantity(y, n, w, "floor_grading", KT_UNIT_NONE, kt_scene_range(0.1, 2, 0, 0), &eye->floor_grading, e))
+        return e->code;
     /* A site meshed at the incision's size (the main incision's tunnel). */
     yaml_node_t *st = kt_yml_get(y, n, "site");
     if (st) {

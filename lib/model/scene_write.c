@@ -68,11 +68,12 @@ static void write_eye(FILE *f, const kt_eye *y)
     fprintf(f, "  fibres: {limbal_band: %.17g mm, limbal_density: %.17g}\n", y->fibre_band, y->fibre_density);
     fprintf(f, "  mesh_size:\n    optical_zone: %.17g mm\n    incision: %.17g mm\n", y->h_optical, y->h_incision);
     if (y->h_floor > 0) fprintf(f, "    incision_floor: %.17g mm\n", y->h_floor);
+    if (y->h_floor > 0) fprintf(f, "    floor_grading: %.17g\n", kt_eye_floor_slope(y));
     fprintf(f, "    cornea: %.17g mm\n    sclera: %.17g mm\n", y->h_cornea, y->h_sclera);
     if (y->site_radius > 0)
         fprintf(f, "    site: {meridian: %.17g deg, distance: %.17g mm, radius: %.17g mm}\n", y->site_meridian,
                 y->site_distance, y->site_radius);
-    fprintf(f, "  incision_rings:\n");
+    fprintf(f, y->nring ? "  incision_rings:\n" : "  incision_rings: []\n");
     for (int i = 0; i < y->nring; i++) {
         const kt_ring *r = &y->ring[i];
         fprintf(f, "    - name: %s\n      diameter: %.17g mm\n", r->name, r->diameter);

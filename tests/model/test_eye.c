@@ -764,6 +764,22 @@ static void check_floor(void)
     CHECK(b.out_sector > 2.5 * eye.h_floor, "outside the sector the floor is coarse: %.3f mm",
           b.out_sector);
     CHECK(fine.nn > plain.nn && fine.nn < 1.5 * plain.nn, "node count %d -> %d", plain.nn, fine.nn);
+    /* eye.mesh_size.floor_grading: the same floor size, growing twice as fast away from it: the
+     * floor itself as fine, the nodes the field adds fewer (a graded tube's nodes go like
+     * 1 / grading^2; the ring's own size and the sector's ends bound it here). */
+    kt_mesh steep;
+    eye.floor_grading = 2 * KT_EYE_FLOOR_GRADING;
+    rc = kt_eye_mesh(&eye, 1, 1, &steep, &e);
+    CHECK(rc == KT_OK, "eye with a steeper floor grading meshed: %s", e.msg);
+    if (rc == KT_OK) {
+        floor_sizes c = floor_edge_sizes(&steep, eye.floor_centre, 35, 60);
+        printf("floor grading %g -> %g: %d -> %d nodes (%d added -> %d), floor edges %.3f mm\n", KT_EYE_FLOOR_GRADING,
+               eye.floor_grading, fine.nn, steep.nn, fine.nn - plain.nn, steep.nn - plain.nn, c.in_sector);
+        CHECK(c.n_in > 0 && c.in_sector <= 1.5 * eye.h_floor, "steeper grading: floor edges %.3f mm", c.in_sector);
+        CHECK(steep.nn > plain.nn && steep.nn - plain.nn < 0.75 * (fine.nn - plain.nn),
+              "steeper grading: nodes added %d, against %d", steep.nn - plain.nn, fine.nn - plain.nn);
+        kt_mesh_free(&steep);
+    }
     kt_mesh_free(&plain);
     kt_mesh_free(&fine);
 }

@@ -246,6 +246,7 @@ static void test_scene(void)
     kt_scene base, s, back;
     kt_err e = {0};
     CHECK(kt_scene_load("plans/eye.yaml", &base, &e) == KT_OK, "base scene: %s", e.msg);
+    base.eye.floor_grading = 1.25; /* not the default: it must travel */
     kt_patient p;
     CHECK(load_text(OK_OD, &p, &e) == KT_OK, "patient: %s", e.msg);
     memset(&e, 0, sizeof e);
@@ -270,6 +271,7 @@ static void test_scene(void)
     if (rc != KT_OK) return;
     CHECK(back.eye.r_ant_steep == s.eye.r_ant_steep && back.eye.r_post == s.eye.r_post &&
               back.eye.t_peripheral == s.eye.t_peripheral && back.eye.h_floor == s.eye.h_floor &&
+              s.eye.floor_grading == 1.25 && back.eye.floor_grading == s.eye.floor_grading &&
               back.eye.wtw == s.eye.wtw && back.eye.wtw_v == s.eye.wtw_v,
           "eye fields read back exactly");
     CHECK(back.nmat == s.nmat && back.mat[0].Gt == s.mat[0].Gt && back.mat[2].E == s.mat[2].E, "materials read back");
@@ -297,6 +299,13 @@ static void test_scene(void)
     CHECK(kt_scene_load(path, &back, &e) == KT_OK && back.wound.state == KT_WOUND_HEALED && back.wound.months == 4 &&
               kt_scene_wound_k(&back) == kt_scene_wound_k(&s),
           "a healed wound reads back: %s", e.msg);
+    /* an eye without rings is written as an empty list, which reads back */
+    s.eye.nring = 0;
+    f = fopen(path, "w");
+    CHECK(f && kt_scene_write_eye(f, &s, "test", &e) == KT_OK, "write: %s", e.msg);
+    if (f) fclose(f);
+    rc = kt_scene_load(path, &back, &e);
+    CHECK(rc == KT_OK && back.eye.nring == 0, "no rings read back: %s", e.msg);
 }
 
 int main(void)

@@ -200,6 +200,12 @@ static void test_bad_scenes(void)
            "eye.mesh_size.incision_floor: expected a length in [0.005, 1] mm");
     reject("floor-coarse", "eye:\n  mesh_size: {incision: 0.1 mm, incision_floor: 0.15 mm}\n", 2, 49,
            "eye.mesh_size.incision_floor: expected at most mesh_size.incision (0.1 mm)");
+    reject("grading-low", "eye:\n  mesh_size: {floor_grading: 0.05}\n", 2, 30,
+           "eye.mesh_size.floor_grading: expected a number in [0.1, 2]");
+    reject("grading-high", "eye:\n  mesh_size: {floor_grading: 2.5}\n", 2, 30,
+           "eye.mesh_size.floor_grading: expected a number in [0.1, 2]");
+    reject("grading-unit", "eye:\n  mesh_size: {floor_grading: 1 mm}\n", 2, 30,
+           "eye.mesh_size.floor_grading: expected a number");
 }
 
 /* eye.white_to_white: a length is the horizontal diameter, the vertical one 1.1 mm less (the
@@ -240,6 +246,10 @@ static void test_floor(void)
     CHECK_NEAR(s.eye.h_floor, 0.03, 1e-15, "30 um in mm");
     CHECK_NEAR(s.eye.floor_centre, 20, 0, "floor centre = ordering.centre");
     CHECK_NEAR(s.eye.floor_sector, 40, 0, "floor sector = ordering.sector");
+    CHECK(s.eye.floor_grading == 0.5, "built-in floor grading 0.5 mm per mm (%g)", s.eye.floor_grading);
+    write_file(path, "eye:\n  mesh_size: {incision: 0.2 mm, incision_floor: 30 um, floor_grading: 1.25}\n");
+    CHECK(kt_scene_load(path, &s, &e) == 0, "%s", e.msg);
+    CHECK(s.eye.floor_grading == 1.25, "floor_grading read (%g)", s.eye.floor_grading);
     write_file(path, "eye:\n  mesh_size: {incision: 0.2 mm}\n");
     CHECK(kt_scene_load(path, &s, &e) == 0, "%s", e.msg);
     CHECK(s.eye.h_floor == 0, "built-in: no floor refinement (%g mm)", s.eye.h_floor);
