@@ -88,9 +88,9 @@ typedef struct kt_uncertainty {
 } kt_uncertainty;
 /* The non-tissue coefficient of variation: the clinical spread of the SIA (the pooled cv of the
  * spread rows of share/outcomes/lri-outcomes.tsv, 0.544) less the tissue band's median on the
- * training arms (0.197), in quadrature, by the calibration study (plans/studies/calibrate;
- * docs/validation.md, 7 December 2026). */
-#define KT_UQ_NONTISSUE_CV 0.507
+ * training arms (0.206), in quadrature, by the calibration study (plans/studies/calibrate;
+ * docs/validation.md, 8 December 2026, lri-plan's default mesh). */
+#define KT_UQ_NONTISSUE_CV 0.503
 
 /* The quantity's key, unit (as uncertainty.tsv writes it), default sd, source key. */
 const char *kt_uq_name(int q);
@@ -118,16 +118,16 @@ typedef struct kt_wound_scene {
     double heal_time;           /* months: time constant of the scar's stiffening */
 } kt_wound_scene;
 
-/* Defaults identified by the calibration study (plans/studies/calibrate, 7 December 2026, on
- * share/outcomes/lri-outcomes.tsv sha256 2bab46b9263bc1a5... (docs/validation.md gives it whole); lri-plan
- * --fast meshes): the Laplace posterior's means, ln k60 = -2.052 +- 0.360 (k60 0.1285 MPa/mm)
- * and the fall of ln k 0.058 +- 0.060 per decade of age (0.0058 /y; correlation 0.25; the prior
+/* Defaults identified by the calibration study (plans/studies/calibrate, 8 December 2026, on
+ * share/outcomes/lri-outcomes.tsv sha256 2bab46b9263bc1a5... (docs/validation.md gives it whole); lri-plan's
+ * default mesh, the one it plans on): the Laplace posterior's means, ln k60 = -1.764 +- 0.314
+ * (k60 0.1713 MPa/mm) and the fall of ln k 0.057 +- 0.060 per decade of age (0.0057 /y; correlation 0.28; the prior
  * 0.06 +- 0.06 from the keratocyte density's decline, Moller-Pedersen 1997, Niederer 2007, which
  * the two studies' ages of 69 and 76 y barely move); heal_time the scar's stiffening (Gasset and
  * Dohlman 1968: no measurable strength for 12 days, a slow gain over 100 days), not identified
  * (the outcomes show no regression after day 1). */
-#define KT_WOUND_K_DEFAULT 0.1285
-#define KT_WOUND_AGE_RATE_DEFAULT 0.0058
+#define KT_WOUND_K_DEFAULT 0.1713
+#define KT_WOUND_AGE_RATE_DEFAULT 0.0057
 #define KT_WOUND_HEAL_TIME_DEFAULT 1.5
 #define KT_WOUND_AGE_PIVOT 60.0
 

@@ -19,9 +19,9 @@
  *     50 um is a stated assumption (about 10% of a 500-600 um cut), to be replaced by a measured
  *     one.
  *   age_slope 0.05 per decade: +0.30 +- 0.21 MPa per decade on 4.0 MPa (Li et al. 2024).
- *   heal 0.36: the natural logarithm of the healed wound's bridge stiffness (wound:): the
+ *   heal 0.31: the natural logarithm of the healed wound's bridge stiffness (wound:): the
  *     posterior sd of ln k60 identified by plans/studies/calibrate (docs/validation.md), a
- *     factor 1.43 either way. The eye-to-eye spread of the outcome is uncertainty.nontissue_cv. */
+ *     factor 1.36 either way. The eye-to-eye spread of the outcome is uncertainty.nontissue_cv. */
 static const struct {
     const char *name, *unit, *source;
     double sd;
@@ -33,7 +33,7 @@ static const struct {
     {"thickness", "um", "marsich2000", 8.0},
     {"depth", "um", "unterman1984", 50.0},
     {"age_slope", "1/decade", "li2024", 0.05},
-    {"heal", "1", "calibrate2026", 0.36},
+    {"heal", "1", "calibrate2026", 0.31},
 };
 
 const char *kt_uq_name(int q) { return q >= 0 && q < KT_UQ_N ? UQ[q].name : "?"; }
